@@ -1,0 +1,16 @@
+//! Geared rotor with tooth friction as an FMI 2.0 Co-Simulation unit.
+//!
+//! Layers (each knows only the ones below it):
+//! - [`gear`]: pair geometry (ISO 21771), mesh kinematics of the displaced centres,
+//!   contact lines and distributed Coulomb friction (`model.md` §2–§4).
+//! - [`rotor`]: the index-2 geared-rotor DAE in first-order form, its outputs and
+//!   consistent initial values (`model.md` §5–§8).
+//! - [`radau5`]: Hairer & Wanner's RADAU5 for `M y' = f(t, y)`, step-based; knows nothing of gears.
+//! - [`sim`]: the rotor DAE driven by RADAU5 across communication points (safe Rust API).
+//! - [`fmi2`]: the FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe instance.
+
+pub mod fmi2;
+pub mod gear;
+pub mod radau5;
+pub mod rotor;
+pub mod sim;
