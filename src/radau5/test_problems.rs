@@ -71,7 +71,7 @@ impl Problem<5> for Amplifier1t {
         let ue = 0.4 * (200.0 * std::f64::consts::PI * t).sin();
         let g = Self::BETA * (((y[1] - y[2]) / Self::UF).exp() - 1.0);
         f[0] = (y[0] - ue) / Self::R0;
-        f[1] = (2.0 * y[1] - Self::UB) / Self::R + (1.0 - Self::ALPHA) * g;
+        f[1] = (2.0 * y[1] - Self::UB) / Self::R + 0.01 * g;
         f[2] = y[2] / Self::R - g;
         f[3] = (y[3] - Self::UB) / Self::R + Self::ALPHA * g;
         f[4] = y[4] / Self::R;
@@ -81,8 +81,8 @@ impl Problem<5> for Amplifier1t {
         let dg = Self::BETA * ((y[1] - y[2]) / Self::UF).exp() / Self::UF;
         j.fill(0.0);
         j[(0, 0)] = 1.0 / Self::R0;
-        j[(1, 1)] = 2.0 / Self::R + (1.0 - Self::ALPHA) * dg;
-        j[(1, 2)] = -(1.0 - Self::ALPHA) * dg;
+        j[(1, 1)] = 2.0 / Self::R + 0.01 * dg;
+        j[(1, 2)] = -0.01 * dg;
         j[(2, 1)] = -dg;
         j[(2, 2)] = 1.0 / Self::R + dg;
         j[(3, 1)] = Self::ALPHA * dg;
