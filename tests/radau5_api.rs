@@ -227,6 +227,21 @@ fn tiny_stop_intervals_cost_about_one_step_each() {
     assert!((r.y() - s.y()).rows(0, 4).norm() < 1e-5);
 }
 
+/// A stop time one ulp ahead (rounded communication point) is reached without a step.
+#[test]
+fn stop_time_within_rounding_is_snapped() {
+    let mut p = Harmonic;
+    let mut s = Radau5::new(&mut p, opts(1e-8), 0.0, SVector::<f64, 2>::new(1.0, 0.0)).unwrap();
+    s.integrate_to(&mut p, 0.3).unwrap();
+    let n = s.stats().nstep;
+    let next = f64::from_bits(0.3f64.to_bits() + 1);
+    s.integrate_to(&mut p, next).unwrap();
+    assert_eq!(s.t(), next);
+    assert_eq!(s.stats().nstep, n);
+    s.integrate_to(&mut p, 0.6).unwrap();
+    assert!((s.y()[0] - 0.6f64.cos()).abs() < 1e-7);
+}
+
 #[test]
 fn restart_after_a_jump_continues() {
     let mut p = Harmonic;

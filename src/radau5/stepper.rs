@@ -356,6 +356,13 @@ impl<const N: usize> Radau5<N> {
         if t_stop == self.st.t {
             return Ok(self.st.t);
         }
+        // A stop time within a few ulps of t (a master's rounded communication point) can not
+        // be reached by a step (h would fail the "step size too small" test): snap onto it.
+        if t_stop - self.st.t <= 4.0 * f64::EPSILON * self.st.t.abs().max(t_stop.abs()) {
+            self.st.t = t_stop;
+            self.st.steps_since_stop = 0;
+            return Ok(t_stop);
+        }
         let p = self.st.params;
         let tab = self.tab;
         let nit = p.nit;
