@@ -29,6 +29,39 @@ const MAX_SINGULAR: u32 = 5;
 pub struct Radau5<const N: usize> {
     pub(crate) st: State<N>,
     tab: Tableau,
+    /// Nonzero columns of each row of M (derived from `st.mass`, not part of the state).
+    pub(crate) pattern: MassPattern<N>,
+}
+
+/// Row-wise nonzero pattern of the mass matrix. Products `M x` skip the structural
+/// zeros; this changes no bit of the result (the Fortran's sums start at +0 and adding
+/// `0 * x_j = +-0` to a sum that is never -0 leaves it unchanged), but saves most of the
+/// N^2 work for the (block-)diagonal masses of mechanical DAEs.
+#[derive(Debug, Clone)]
+pub(crate) struct MassPattern<const N: usize> {
+    cols: [[usize; N]; N],
+    len: [usize; N],
+}
+
+impl<const N: usize> MassPattern<N> {
+    pub(crate) fn new(m: &SMatrix<f64, N, N>) -> Self {
+        let mut cols = [[0usize; N]; N];
+        let mut len = [0usize; N];
+        for i in 0..N {
+            for j in 0..N {
+                if m[(i, j)] != 0.0 {
+                    cols[i][len[i]] = j;
+                    len[i] += 1;
+                }
+            }
+        }
+        MassPattern { cols, len }
+    }
+
+    #[inline]
+    fn row(&self, i: usize) -> &[usize] {
+        &self.cols[i][..self.len[i]]
+    }
 }
 
 /// Why an attempt failed "unexpectedly" (the Fortran's label 78).
@@ -130,7 +163,8 @@ impl<const N: usize> Radau5<N> {
         Self::initial_eval_result(r, t0, h)?;
         st.f0 = f0;
         st.f0_valid = true;
-        Ok(Radau5 { st, tab })
+        let pattern = MassPattern::new(&st.mass);
+        Ok(Radau5 { st, tab, pattern })
     }
 
     fn initial_eval_result(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
@@ -505,6 +539,7 @@ impl<const N: usize> Radau5<N> {
                 self.st.action = Action::Step;
             }
             // ---- label 30: the attempt
+            let pat = &self.pattern;
             let s = &mut self.st;
             s.stats.nstep += 1;
             s.steps_since_stop += 1;
@@ -597,7 +632,7 @@ impl<const N: usize> Radau5<N> {
                 if s.has_mass {
                     for i in 0..N {
                         let (mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0);
-                        for j in 0..N {
+                        for &j in pat.row(i) {
                             let bb = s.mass[(i, j)];
                             s1 -= bb * f1[j];
                             s2 -= bb * f2[j];
@@ -700,7 +735,7 @@ impl<const N: usize> Radau5<N> {
                 }
                 for i in 0..N {
                     let mut sum = 0.0;
-                    for j in 0..N {
+                    for &j in pat.row(i) {
                         sum += s.mass[(i, j)] * fz[j];
                     }
                     fm[i] = sum;
