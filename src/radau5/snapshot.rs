@@ -249,8 +249,10 @@ fn visit<const N: usize, I: Io>(io: &mut I, s: &mut State<N>) -> Result<(), Snap
     io.mat(&mut s.jac)?;
     io.mat(&mut s.lu1.a)?;
     io.pivots(&mut s.lu1.ip)?;
+    io.pivots(&mut s.lu1.perm)?;
     io.cmat(&mut s.lu2.a)?;
     io.pivots(&mut s.lu2.ip)?;
+    io.pivots(&mut s.lu2.perm)?;
     io.bool(&mut s.first, "first")?;
     io.bool(&mut s.reject, "reject")?;
     io.bool(&mut s.caljac, "caljac")?;
