@@ -415,3 +415,18 @@ impl<const N: usize> Snapshot<N> {
         Ok(Snapshot { state })
     }
 }
+
+impl<const N: usize> Snapshot<N> {
+    /// Time of the snapshot.
+    pub fn t(&self) -> f64 {
+        self.state.t
+    }
+    /// State at [`Snapshot::t`].
+    pub fn y(&self) -> &SVector<f64, N> {
+        &self.state.y
+    }
+    /// Counters at the snapshot.
+    pub fn stats(&self) -> &Statistics {
+        &self.state.stats
+    }
+}
