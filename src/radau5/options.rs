@@ -199,8 +199,12 @@ impl<const N: usize> Params<N> {
         if o.theta_jac.is_nan() || o.theta_jac >= 1.0 {
             return Err(invalid("theta_jac", o.theta_jac, "theta_jac < 1"));
         }
-        if o.max_newton == 0 {
-            return Err(invalid("max_newton", 0.0, "max_newton >= 1"));
+        if o.max_newton == 0 || o.max_newton > 1000 {
+            return Err(invalid(
+                "max_newton",
+                f64::from(o.max_newton),
+                "1 <= max_newton <= 1000",
+            ));
         }
         if o.max_steps == 0 {
             return Err(invalid("max_steps", 0.0, "max_steps >= 1"));
