@@ -160,14 +160,16 @@ impl<const N: usize> Radau5<N> {
         let mut f0 = SVector::zeros();
         let r = eval(problem, t0, &y0, &mut f0);
         st.stats.nfcn += 1;
-        Self::initial_eval_result(r, t0, h)?;
+        Self::point_eval_error(r, t0, h)?;
         st.f0 = f0;
         st.f0_valid = true;
         let pattern = MassPattern::new(&st.mass);
         Ok(Radau5 { st, tab, pattern })
     }
 
-    fn initial_eval_result(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
+    /// Maps a failed evaluation of f at an accepted point (start, restart, after a stop
+    /// time) to the typed error: there is no step to shrink there.
+    fn point_eval_error(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
         match r {
             Ok(()) => Ok(()),
             Err(Failure::Rhs(e)) => Err(Error::Rhs {
@@ -272,7 +274,7 @@ impl<const N: usize> Radau5<N> {
         let mut f0 = SVector::zeros();
         let r = eval(problem, s.t, &y, &mut f0);
         s.stats.nfcn += 1;
-        Self::initial_eval_result(r, s.t, s.h_next)?;
+        Self::point_eval_error(r, s.t, s.h_next)?;
         s.y = y;
         s.f0 = f0;
         s.f0_valid = true;
@@ -406,7 +408,7 @@ impl<const N: usize> Radau5<N> {
             let mut f0 = SVector::zeros();
             let r = eval(problem, t, &self.st.y, &mut f0);
             self.st.stats.nfcn += 1;
-            Self::initial_eval_result(r, t, self.st.h_next)?;
+            Self::point_eval_error(r, t, self.st.h_next)?;
             self.st.f0 = f0;
             self.st.f0_valid = true;
         }
