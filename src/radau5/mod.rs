@@ -38,6 +38,7 @@
 //!   `NSING`).
 //! - Only forward integration (`t_stop >= t`).
 
+mod error;
 pub mod linalg;
 pub mod options;
 mod problem;
