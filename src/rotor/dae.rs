@@ -371,16 +371,18 @@ impl GearedRotor {
         let mut yp = *y;
         for &j in cols.iter() {
             let yj = y[j];
+            // Steps on the scale over which the friction terms vary: positions on the
+            // gear size, the phase on the mesh period, speeds on their own size.
             let scale = if j < 6 {
-                1e-6
+                g.a_w
             } else if j == idx::PHI1 {
-                1e-3
+                g.phi1_period
             } else if j == idx::OMEGA1 || j == v + 6 {
-                1.0
+                yj.abs().max(1.0)
             } else {
-                1e-3
+                yj.abs().max(1.0)
             };
-            let h = (f64::EPSILON.sqrt() * yj.abs().max(scale)).max(1e-300);
+            let h = f64::EPSILON.sqrt() * scale;
             yp[j] = yj + h;
             let h = yp[j] - yj;
             let mp = if j < 6 { self.mesh(t, &yp)? } else { m };
