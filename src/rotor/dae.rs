@@ -377,8 +377,6 @@ impl GearedRotor {
                 g.a_w
             } else if j == idx::PHI1 {
                 g.phi1_period
-            } else if j == idx::OMEGA1 || j == v + 6 {
-                yj.abs().max(1.0)
             } else {
                 yj.abs().max(1.0)
             };
@@ -404,8 +402,8 @@ impl GearedRotor {
 
     /// lambda from the hidden constraint in closed form (`model.md` §7).
     ///
-    /// Differentiating `G(q) v - r_b1 cos beta_b omega1 = 0` with `M v' = F + lambda G^T
-    /// + |lambda| Phi` (F: damping, springs, load; Phi: friction per unit |lambda|, fixed
+    /// Differentiating `G(q) v - r_b1 cos beta_b omega1 = 0` with
+    /// `M v' = F + lambda G^T + |lambda| Phi` (F: damping, springs, load; Phi: friction per unit |lambda|, fixed
     /// for fixed kinematics) gives `lambda A + |lambda| B = r` with `A = G M^-1 G^T`,
     /// `B = G M^-1 Phi`, `r = r_b1 cos beta_b omega1' - G' v - G M^-1 F`. Solving under
     /// each sign assumption and keeping the consistent one needs no iteration.
@@ -492,10 +490,7 @@ impl GearedRotor {
         }
         let m = self.mesh(t0, &y)?;
         let grow = g.constraint_row(&m);
-        let mut gv = 0.0;
-        for i in 0..6 {
-            gv += grow[i] * ic.u_dot[i];
-        }
+        let gv: f64 = grow.iter().zip(ic.u_dot.iter()).map(|(a, b)| a * b).sum();
         y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
         y[idx::LAMBDA] = self.consistent_lambda(t0, &y)?;
         self.g0 = -g.gap_raw(&m, 0.0);
