@@ -189,3 +189,29 @@ fn kinematic_loss_factor_matches_h_v() {
     println!("  Ohlendorf vs H_V for 17/60: {off:.4e}");
     assert!(off > 3e-3);
 }
+
+#[test]
+fn default_pair_non_integer_overlap_is_close_to_h_v() {
+    // eps_beta = 0.98: l varies, so the helical formula is an approximation (printed, and
+    // held to a loose bound only).
+    let d = GearData::default();
+    let g = PairGeometry::new(&d).unwrap();
+    let m = g.mesh(&Vector3::zeros(), &Vector3::zeros()).unwrap();
+    let k = Kinematics {
+        v1: Vector3::zeros(),
+        v2: Vector3::zeros(),
+        omega1: 1.0,
+        omega2: g.rb1 / g.rb2,
+    };
+    let ratio = |phi1: f64| {
+        let s = g.friction_sums(&m, phi1, 0.0, &k, FrictionLaw::Coulomb);
+        s.resultants(1.0, 1.0).p_loss / (g.rb1 * g.cos_beta_b)
+    };
+    let mean = period_mean(&g, &ratio);
+    let e = (mean - g.h_v) / g.h_v;
+    println!(
+        "default pair (eps_beta = {:.6}): kinematic <ratio> = {mean:.9}, H_V = {:.9}, rel {e:.3e}",
+        g.eps_beta, g.h_v
+    );
+    assert!(e.abs() < 0.02);
+}

@@ -141,7 +141,10 @@ fn default_initialisation_and_static_equilibrium() {
     let o = model.outputs(0.0, &y);
     assert!((o.omega2 - 314.159 * 27.0 / 41.0).abs() < 1e-12);
     // frictionless static equilibrium: lambda = d_phi omega2 / (r_b2 cos beta_b), K u = lambda G^T
-    let p = Params { mu: 0.0, ..Params::default() };
+    let p = Params {
+        mu: 0.0,
+        ..Params::default()
+    };
     let mut m0 = GearedRotor::new(p).unwrap();
     m0.set_inputs(Inputs {
         omega1: 314.159,
