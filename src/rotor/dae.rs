@@ -98,7 +98,8 @@ impl GearedRotor {
         &self.geom
     }
 
-    /// Changes mu (tunable).
+    /// Changes mu (tunable). The lambda held in a state is then no longer consistent:
+    /// recompute it with [`GearedRotor::consistent_lambda`] before restarting the solver.
     ///
     /// # Errors
     /// mu negative or not finite.
@@ -108,7 +109,8 @@ impl GearedRotor {
         Ok(())
     }
 
-    /// Changes the rotational damper d_phi (tunable).
+    /// Changes the rotational damper d_phi (tunable); as for [`GearedRotor::set_mu`],
+    /// re-project lambda with [`GearedRotor::consistent_lambda`] before a restart.
     ///
     /// # Errors
     /// d_phi negative or not finite.
@@ -132,6 +134,19 @@ impl GearedRotor {
     /// Gap offset g0 (§3.3), set by the initialisation.
     pub fn gap_offset(&self) -> f64 {
         self.g0
+    }
+
+    /// The references fixed at initialisation, `(g0, phi1(0))`: model state outside y that
+    /// an FMU state snapshot must carry (the gap diagnostic and phi2/TE outputs use them).
+    pub fn references(&self) -> (f64, f64) {
+        (self.g0, self.phi1_0)
+    }
+
+    /// Restores the references of [`GearedRotor::references`] (e.g. after deserialising an
+    /// FMU state into a fresh instance).
+    pub fn set_references(&mut self, g0: f64, phi1_0: f64) {
+        self.g0 = g0;
+        self.phi1_0 = phi1_0;
     }
 
     /// Mesh of the displaced state y.
