@@ -4,7 +4,7 @@
 //! bookkeeping of f (E_in' - E_loss' - E_damp' - E_load' = d/dt (E_kin + E_pot), model.md §9.6)
 //! at consistent states.
 
-use geared_rotor::rotor::{idx, GearedRotor, InitialConditions, Inputs, Params, NY};
+use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
 use nalgebra::{SMatrix, SVector};
 
 struct Rng(u64);
@@ -92,9 +92,6 @@ fn energy_rates_balance() {
     let mut rng = Rng(8);
     let mut model = GearedRotor::new(Params::default()).unwrap();
     let p = *model.params();
-    let masses = [
-        p.rotor1.m, p.rotor1.m, p.rotor1.m, p.rotor2.m, p.rotor2.m, p.rotor2.m, p.rotor2.j,
-    ];
     let stiff = [
         p.rotor1.k[0],
         p.rotor1.k[1],
@@ -106,7 +103,6 @@ fn energy_rates_balance() {
     ];
     let mut worst: f64 = 0.0;
     for _ in 0..200 {
-        let _ = InitialConditions::default();
         let y = state(&mut model, &mut rng);
         let mut f = SVector::<f64, NY>::zeros();
         model.rhs(0.0, &y, &mut f).unwrap();
@@ -114,7 +110,6 @@ fn energy_rates_balance() {
         let mut de = p.rotor1.j * y[idx::OMEGA1] * y[idx::OMEGA1_DOT];
         for i in 0..7 {
             de += y[idx::V + i] * f[idx::V + i] + stiff[i] * y[i] * y[idx::V + i];
-            let _ = masses[i];
         }
         let bal = f[idx::E_IN] - f[idx::E_LOSS] - f[idx::E_DAMP] - f[idx::E_LOAD];
         let e = (bal - de).abs() / f[idx::E_IN].abs().max(f[idx::E_LOSS]);

@@ -290,7 +290,6 @@ impl GearedRotor {
         let (cb, rb1, rb2) = (g.cos_beta_b, g.rb1, g.rb2);
         let omega1 = y[idx::OMEGA1];
         let omega1_dot = y[idx::OMEGA1_DOT];
-        let omega2 = y[v + 6];
         let t_load = self.inputs.t_load_at(t);
         let j1 = self.params.rotor1.j;
         jac.fill(0.0);
@@ -411,7 +410,6 @@ impl GearedRotor {
             jac[(idx::E_LOSS, j)] += (frp.p_loss - fr.p_loss) / h;
             yp[j] = yj;
         }
-        let _ = omega2;
         Ok(())
     }
 
