@@ -1,1 +1,3 @@
-//! Placeholder: filled in by its issue.
+//! The FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe instance.
+
+pub mod variables;
