@@ -103,15 +103,16 @@ impl SolverSettings {
     }
 
     fn options(&self) -> Options<NY> {
-        let mut o = Options::<NY>::default();
-        o.rtol = Tolerance::Scalar(self.rtol);
-        o.atol = Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| self.rtol * SCALES[i]));
-        o.h_max = self.h_max;
-        o.max_steps = MAX_STEPS_PER_INTERVAL;
-        o.n1 = crate::rotor::N_INDEX1;
-        o.n2 = crate::rotor::N_INDEX2;
-        o.n3 = 0;
-        o
+        Options::<NY> {
+            rtol: Tolerance::Scalar(self.rtol),
+            atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| self.rtol * SCALES[i])),
+            h_max: self.h_max,
+            max_steps: MAX_STEPS_PER_INTERVAL,
+            n1: crate::rotor::N_INDEX1,
+            n2: crate::rotor::N_INDEX2,
+            n3: 0,
+            ..Options::default()
+        }
     }
 }
 
