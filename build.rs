@@ -24,19 +24,85 @@ const PLACEHOLDER: &str = "@GUID@";
 /// Variable names the Rust code refers to (API.md "FMI variable names"); missing ones would
 /// otherwise surface as an obscure compile error in src/fmi2.
 const REQUIRED: &[&str] = &[
-    "omega1", "T_load", "T1", "omega1_filtered", "omega2", "phi1", "phi2", "Fn", "TE", "gap",
-    "P_in", "P_loss", "P_damp", "E_in", "E_loss", "E_damp", "E_load", "E_kin", "E_pot",
-    "contact_length", "pairs_in_contact", "contact_lost", "z1", "z2", "m_n", "alpha_n", "beta",
-    "b", "x1", "x2", "h_aP", "a_w_set", "psi0", "m1", "J1", "m2", "J2", "d_phi", "mu",
-    "friction_law", "omega1_filter_frequency", "rtol", "h_max", "r_b1", "r_b2", "a_w",
-    "alpha_wt", "beta_b", "p_bt", "eps_alpha", "eps_beta", "H_V",
+    "omega1",
+    "T_load",
+    "T1",
+    "omega1_filtered",
+    "omega2",
+    "phi1",
+    "phi2",
+    "Fn",
+    "TE",
+    "gap",
+    "P_in",
+    "P_loss",
+    "P_damp",
+    "E_in",
+    "E_loss",
+    "E_damp",
+    "E_load",
+    "E_kin",
+    "E_pot",
+    "contact_length",
+    "pairs_in_contact",
+    "contact_lost",
+    "z1",
+    "z2",
+    "m_n",
+    "alpha_n",
+    "beta",
+    "b",
+    "x1",
+    "x2",
+    "h_aP",
+    "a_w_set",
+    "psi0",
+    "m1",
+    "J1",
+    "m2",
+    "J2",
+    "d_phi",
+    "mu",
+    "friction_law",
+    "omega1_filter_frequency",
+    "rtol",
+    "h_max",
+    "r_b1",
+    "r_b2",
+    "a_w",
+    "alpha_wt",
+    "beta_b",
+    "p_bt",
+    "eps_alpha",
+    "eps_beta",
+    "H_V",
 ];
 const REQUIRED_VECTORS: &[&str] = &[
-    "u1", "u2", "v1", "v2", "F_bearing1", "F_bearing2", "F_friction1", "F_friction2",
-    "M_friction1", "M_friction2", "F_contact1", "F_contact2", "M_contact1", "M_contact2",
-    "k1", "k2", "d1", "d2",
+    "u1",
+    "u2",
+    "v1",
+    "v2",
+    "F_bearing1",
+    "F_bearing2",
+    "F_friction1",
+    "F_friction2",
+    "M_friction1",
+    "M_friction2",
+    "F_contact1",
+    "F_contact2",
+    "M_contact1",
+    "M_contact2",
+    "k1",
+    "k2",
+    "d1",
+    "d2",
 ];
-const REQUIRED_CATEGORIES: &[&str] = &["logStatusError", "logStatusWarning", "logEvents", "logSolver"];
+const REQUIRED_CATEGORIES: &[&str] = &[
+    "logStatusError",
+    "logStatusWarning",
+    "logEvents",
+    "logSolver",
+];
 
 #[derive(Debug, Default, Clone)]
 struct Var {
@@ -128,9 +194,12 @@ fn parse(text: &str) -> Parsed {
     let mut cur_unit: Option<String> = None;
     let mut cur_type: Option<String> = None;
     loop {
-        let ev = reader
-            .read_event()
-            .unwrap_or_else(|e| fail(format!("XML error at byte {}: {e}", reader.buffer_position())));
+        let ev = reader.read_event().unwrap_or_else(|e| {
+            fail(format!(
+                "XML error at byte {}: {e}",
+                reader.buffer_position()
+            ))
+        });
         let (e, empty) = match &ev {
             Event::Start(e) => (e.clone(), false),
             Event::Empty(e) => (e.clone(), true),
@@ -157,35 +226,56 @@ fn parse(text: &str) -> Parsed {
         match name.as_str() {
             "fmiModelDescription" => p.root = a.clone(),
             "CoSimulation" => p.cosim = Some(a.clone()),
-            "ModelExchange" => fail("this FMU is Co-Simulation only; remove <ModelExchange>".into()),
+            "ModelExchange" => {
+                fail("this FMU is Co-Simulation only; remove <ModelExchange>".into())
+            }
             "Unit" => {
-                let n = a.get("name").cloned().unwrap_or_else(|| fail("Unit without name".into()));
+                let n = a
+                    .get("name")
+                    .cloned()
+                    .unwrap_or_else(|| fail("Unit without name".into()));
                 if p.units.insert(n.clone(), Vec::new()).is_some() {
                     fail(format!("unit {n} defined twice"));
                 }
                 cur_unit = Some(n);
             }
             "DisplayUnit" => {
-                let u = cur_unit.clone().unwrap_or_else(|| fail("DisplayUnit outside Unit".into()));
-                let n = a.get("name").cloned().unwrap_or_else(|| fail("DisplayUnit without name".into()));
+                let u = cur_unit
+                    .clone()
+                    .unwrap_or_else(|| fail("DisplayUnit outside Unit".into()));
+                let n = a
+                    .get("name")
+                    .cloned()
+                    .unwrap_or_else(|| fail("DisplayUnit without name".into()));
                 if let Some(d) = p.units.get_mut(&u) {
                     d.push(n);
                 }
             }
             "SimpleType" => {
-                let n = a.get("name").cloned().unwrap_or_else(|| fail("SimpleType without name".into()));
+                let n = a
+                    .get("name")
+                    .cloned()
+                    .unwrap_or_else(|| fail("SimpleType without name".into()));
                 cur_type = Some(n);
             }
             "Real" | "Integer" | "Boolean" | "String" | "Enumeration" if parent == "SimpleType" => {
                 if let Some(t) = &cur_type {
-                    p.types.insert(t.clone(), (a.get("unit").cloned(), a.get("displayUnit").cloned()));
+                    p.types.insert(
+                        t.clone(),
+                        (a.get("unit").cloned(), a.get("displayUnit").cloned()),
+                    );
                 }
             }
-            "Category" => p
-                .categories
-                .push(a.get("name").cloned().unwrap_or_else(|| fail("Category without name".into()))),
+            "Category" => p.categories.push(
+                a.get("name")
+                    .cloned()
+                    .unwrap_or_else(|| fail("Category without name".into())),
+            ),
             "ScalarVariable" => {
-                let vname = a.get("name").cloned().unwrap_or_else(|| fail("ScalarVariable without name".into()));
+                let vname = a
+                    .get("name")
+                    .cloned()
+                    .unwrap_or_else(|| fail("ScalarVariable without name".into()));
                 let vr = a
                     .get("valueReference")
                     .and_then(|s| s.parse::<u32>().ok())
@@ -195,14 +285,21 @@ fn parse(text: &str) -> Parsed {
                     name: vname,
                     vr,
                     description: a.get("description").cloned(),
-                    causality: a.get("causality").cloned().unwrap_or_else(|| "local".into()),
+                    causality: a
+                        .get("causality")
+                        .cloned()
+                        .unwrap_or_else(|| "local".into()),
                     variability: a.get("variability").cloned().unwrap_or_default(),
                     initial: a.get("initial").cloned(),
                     ..Var::default()
                 });
             }
-            "Real" | "Integer" | "Boolean" | "String" | "Enumeration" if parent == "ScalarVariable" => {
-                let v = cur_var.as_mut().unwrap_or_else(|| fail("type element outside ScalarVariable".into()));
+            "Real" | "Integer" | "Boolean" | "String" | "Enumeration"
+                if parent == "ScalarVariable" =>
+            {
+                let v = cur_var
+                    .as_mut()
+                    .unwrap_or_else(|| fail("type element outside ScalarVariable".into()));
                 v.ty = name.clone();
                 v.declared_type = a.get("declaredType").cloned();
                 v.unit = a.get("unit").cloned();
@@ -254,12 +351,17 @@ fn check(p: &mut Parsed) {
         fail("fmiVersion must be \"2.0\"".into());
     }
     if p.root.get("guid").map(String::as_str) != Some(PLACEHOLDER) {
-        fail(format!("the guid attribute must be the placeholder {PLACEHOLDER} (build.rs fills it in)"));
+        fail(format!(
+            "the guid attribute must be the placeholder {PLACEHOLDER} (build.rs fills it in)"
+        ));
     }
     if p.root.get("variableNamingConvention").map(String::as_str) != Some("structured") {
         fail("variableNamingConvention must be \"structured\"".into());
     }
-    let cs = p.cosim.clone().unwrap_or_else(|| fail("missing <CoSimulation>".into()));
+    let cs = p
+        .cosim
+        .clone()
+        .unwrap_or_else(|| fail("missing <CoSimulation>".into()));
     if cs.get("modelIdentifier").map(String::as_str) != Some("GearedRotor") {
         fail("CoSimulation modelIdentifier must be GearedRotor".into());
     }
@@ -282,7 +384,10 @@ fn check(p: &mut Parsed) {
             fail(format!("{n}: type {} is not supported by this FMU", v.ty));
         }
         if !vrs.insert((v.ty.clone(), v.vr)) {
-            fail(format!("{n}: valueReference {} is used twice for type {}", v.vr, v.ty));
+            fail(format!(
+                "{n}: valueReference {} is used twice for type {}",
+                v.vr, v.ty
+            ));
         }
         let ok_name = !n.is_empty()
             && n.split('.').all(|part| {
@@ -291,16 +396,25 @@ fn check(p: &mut Parsed) {
                     && ch.all(|c| c.is_ascii_alphanumeric() || c == '_')
             });
         if !ok_name {
-            fail(format!("{n}: not a valid structured name (identifiers separated by '.')"));
+            fail(format!(
+                "{n}: not a valid structured name (identifiers separated by '.')"
+            ));
         }
-        if v.description.as_deref().map(str::trim).unwrap_or("").is_empty() {
+        if v.description
+            .as_deref()
+            .map(str::trim)
+            .unwrap_or("")
+            .is_empty()
+        {
             fail(format!("{n}: every variable needs a description"));
         }
         if v.variability.is_empty() {
             v.variability = "continuous".into();
         }
         if v.variability == "continuous" && v.ty != "Real" {
-            fail(format!("{n}: only Real variables can be continuous (use variability=\"discrete\")"));
+            fail(format!(
+                "{n}: only Real variables can be continuous (use variability=\"discrete\")"
+            ));
         }
         let allowed = allowed_initial(&v.causality, &v.variability).unwrap_or_else(|| {
             fail(format!(
@@ -319,10 +433,15 @@ fn check(p: &mut Parsed) {
         };
         let needs_start = matches!(initial.as_str(), "exact" | "approx") || v.causality == "input";
         if needs_start && v.start.is_none() {
-            fail(format!("{n}: a start value is required (causality={}, initial={initial})", v.causality));
+            fail(format!(
+                "{n}: a start value is required (causality={}, initial={initial})",
+                v.causality
+            ));
         }
         if initial == "calculated" && v.start.is_some() {
-            fail(format!("{n}: initial=\"calculated\" must not have a start value"));
+            fail(format!(
+                "{n}: initial=\"calculated\" must not have a start value"
+            ));
         }
         if let Some(s) = &v.start {
             let ok = match v.ty.as_str() {
@@ -335,11 +454,9 @@ fn check(p: &mut Parsed) {
             }
         }
         if let Some(dt) = &v.declared_type {
-            let (u, du) = p
-                .types
-                .get(dt)
-                .cloned()
-                .unwrap_or_else(|| fail(format!("{n}: declaredType {dt} is not in TypeDefinitions")));
+            let (u, du) = p.types.get(dt).cloned().unwrap_or_else(|| {
+                fail(format!("{n}: declaredType {dt} is not in TypeDefinitions"))
+            });
             if v.unit.is_none() {
                 v.unit = u;
             }
@@ -348,27 +465,48 @@ fn check(p: &mut Parsed) {
             }
         }
         if let Some(u) = &v.unit {
-            let dus = p.units.get(u).unwrap_or_else(|| fail(format!("{n}: unit {u} is not in UnitDefinitions")));
+            let dus = p
+                .units
+                .get(u)
+                .unwrap_or_else(|| fail(format!("{n}: unit {u} is not in UnitDefinitions")));
             if let Some(du) = &v.display_unit {
                 if !dus.contains(du) {
-                    fail(format!("{n}: displayUnit {du} is not a DisplayUnit of unit {u}"));
+                    fail(format!(
+                        "{n}: displayUnit {du} is not a DisplayUnit of unit {u}"
+                    ));
                 }
             }
         } else if v.ty == "Real" {
-            fail(format!("{n}: every Real needs a unit (directly or via declaredType)"));
+            fail(format!(
+                "{n}: every Real needs a unit (directly or via declaredType)"
+            ));
         }
-        v.initial = if initial.is_empty() { None } else { Some(initial) };
+        v.initial = if initial.is_empty() {
+            None
+        } else {
+            Some(initial)
+        };
     }
     // ModelStructure: Outputs = exactly the outputs, in index order.
-    let outs: Vec<usize> = p.vars.iter().filter(|v| v.causality == "output").map(|v| v.index).collect();
+    let outs: Vec<usize> = p
+        .vars
+        .iter()
+        .filter(|v| v.causality == "output")
+        .map(|v| v.index)
+        .collect();
     for &i in &p.outputs {
         if i == 0 || i > p.vars.len() || p.vars[i - 1].causality != "output" {
-            fail(format!("ModelStructure/Outputs index {i} is not an output variable"));
+            fail(format!(
+                "ModelStructure/Outputs index {i} is not an output variable"
+            ));
         }
     }
     for v in p.vars.iter().filter(|v| v.causality == "output") {
         if !p.outputs.contains(&v.index) {
-            fail(format!("output {} (index {}) is missing from ModelStructure/Outputs", v.name, v.index));
+            fail(format!(
+                "output {} (index {}) is missing from ModelStructure/Outputs",
+                v.name, v.index
+            ));
         }
     }
     if p.outputs != outs {
@@ -378,7 +516,8 @@ fn check(p: &mut Parsed) {
         .vars
         .iter()
         .filter(|v| {
-            (v.causality == "output" && matches!(v.initial.as_deref(), Some("approx" | "calculated")))
+            (v.causality == "output"
+                && matches!(v.initial.as_deref(), Some("approx" | "calculated")))
                 || v.causality == "calculatedParameter"
         })
         .map(|v| v.index)
@@ -411,13 +550,26 @@ fn rust_variant(name: &str) -> String {
 fn generate(p: &Parsed, guid: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "// Generated by build.rs from {SOURCE}. Do not edit.");
-    let _ = writeln!(s, "/// GUID of this model description (derived from its content).");
+    let _ = writeln!(
+        s,
+        "/// GUID of this model description (derived from its content)."
+    );
     let _ = writeln!(s, "pub const GUID: &str = {guid:?};");
-    let _ = writeln!(s, "/// Log categories declared in the description, in order.");
-    let _ = writeln!(s, "pub const LOG_CATEGORIES: &[&str] = &{:?};", p.categories);
+    let _ = writeln!(
+        s,
+        "/// Log categories declared in the description, in order."
+    );
+    let _ = writeln!(
+        s,
+        "pub const LOG_CATEGORIES: &[&str] = &{:?};",
+        p.categories
+    );
     let _ = writeln!(s, "/// Number of variables.");
     let _ = writeln!(s, "pub const N_VARIABLES: usize = {};", p.vars.len());
-    let _ = writeln!(s, "/// One variant per variable (dots of structured names become underscores).");
+    let _ = writeln!(
+        s,
+        "/// One variant per variable (dots of structured names become underscores)."
+    );
     let _ = writeln!(s, "#[allow(non_camel_case_types)]");
     let _ = writeln!(s, "#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]");
     let _ = writeln!(s, "pub enum Var {{");
@@ -426,7 +578,10 @@ fn generate(p: &Parsed, guid: &str) -> String {
         let _ = writeln!(s, "    {},", rust_variant(&v.name));
     }
     let _ = writeln!(s, "}}");
-    let _ = writeln!(s, "/// The variable table, in the order of ModelVariables (index = position + 1).");
+    let _ = writeln!(
+        s,
+        "/// The variable table, in the order of ModelVariables (index = position + 1)."
+    );
     let _ = writeln!(s, "pub static VARIABLES: [Variable; N_VARIABLES] = [");
     for v in &p.vars {
         let ty = match v.ty.as_str() {
@@ -454,7 +609,11 @@ fn generate(p: &Parsed, guid: &str) -> String {
                 None => "None".into(),
                 Some("true") => "Some(1.0)".into(),
                 Some("false") => "Some(0.0)".into(),
-                Some(x) => format!("Some({:?})", x.parse::<f64>().unwrap_or_else(|_| fail(format!("{}: bad number {x}", v.name)))),
+                Some(x) => format!(
+                    "Some({:?})",
+                    x.parse::<f64>()
+                        .unwrap_or_else(|_| fail(format!("{}: bad number {x}", v.name)))
+                ),
             }
         };
         let _ = writeln!(
@@ -473,8 +632,14 @@ fn generate(p: &Parsed, guid: &str) -> String {
         );
     }
     let _ = writeln!(s, "];");
-    let _ = writeln!(s, "/// Position in [`VARIABLES`] of the variable with this type and value reference.");
-    let _ = writeln!(s, "pub fn index_of(ty: VarType, vr: u32) -> Option<usize> {{");
+    let _ = writeln!(
+        s,
+        "/// Position in [`VARIABLES`] of the variable with this type and value reference."
+    );
+    let _ = writeln!(
+        s,
+        "pub fn index_of(ty: VarType, vr: u32) -> Option<usize> {{"
+    );
     let _ = writeln!(s, "    match (ty, vr) {{");
     for (i, v) in p.vars.iter().enumerate() {
         let _ = writeln!(s, "        (VarType::{}, {}) => Some({i}),", v.ty, v.vr);
@@ -496,6 +661,7 @@ fn main() {
     check(&mut parsed);
     let guid = guid_of(&text);
     let filled = text.replace("\r\n", "\n").replacen(PLACEHOLDER, &guid, 1);
-    std::fs::write(out.join("variables_gen.rs"), generate(&parsed, &guid)).expect("write variables_gen.rs");
+    std::fs::write(out.join("variables_gen.rs"), generate(&parsed, &guid))
+        .expect("write variables_gen.rs");
     std::fs::write(out.join("modelDescription.xml"), filled).expect("write modelDescription.xml");
 }

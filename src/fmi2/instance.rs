@@ -4,7 +4,9 @@
 //! decided in exactly one place, [`FmuError::status`].
 
 use super::types::{Fmi2CallbackLogger, Fmi2ComponentEnvironment, Fmi2Status};
-use super::variables::{self, Causality, Var, VarType, Variability, Variable, LOG_CATEGORIES, N_VARIABLES, VARIABLES};
+use super::variables::{
+    self, Causality, Var, VarType, Variability, Variable, LOG_CATEGORIES, N_VARIABLES, VARIABLES,
+};
 use crate::gear::{GearData, ParamError};
 use crate::rotor::{FrictionLaw, Outputs, Params, RotorData};
 use crate::sim::codec::{self, DecodeError, Reader, Writer};
@@ -203,7 +205,10 @@ impl FmuError {
     pub fn status(&self) -> Fmi2Status {
         use crate::radau5::Error as R;
         match self {
-            FmuError::Sim { error: SimError::Solver { error, .. }, .. } => match error {
+            FmuError::Sim {
+                error: SimError::Solver { error, .. },
+                ..
+            } => match error {
                 R::InvalidOption { .. } | R::StopTimeBehind { .. } => Fmi2Status::Error,
                 _ => Fmi2Status::Discard,
             },
@@ -217,20 +222,35 @@ impl fmt::Display for FmuError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             FmuError::IllegalCall { func, phase } => {
-                write!(f, "{func}: illegal call sequence (the instance is in state {phase:?})")
+                write!(
+                    f,
+                    "{func}: illegal call sequence (the instance is in state {phase:?})"
+                )
             }
-            FmuError::NullPointer { func, arg } => write!(f, "{func}: argument {arg} is a NULL pointer"),
+            FmuError::NullPointer { func, arg } => {
+                write!(f, "{func}: argument {arg} is a NULL pointer")
+            }
             FmuError::UnknownValueReference { func, vr } => {
-                write!(f, "{func}: unknown value reference {vr} (no variable of this type has it)")
+                write!(
+                    f,
+                    "{func}: unknown value reference {vr} (no variable of this type has it)"
+                )
             }
-            FmuError::NotSettable { func, name, why } => write!(f, "{func}: variable {name} cannot be set: {why}"),
+            FmuError::NotSettable { func, name, why } => {
+                write!(f, "{func}: variable {name} cannot be set: {why}")
+            }
             FmuError::BadArgument { func, message } => write!(f, "{func}: {message}"),
-            FmuError::Unsupported { func, what } => write!(f, "{func}: not supported by this FMU ({what})"),
+            FmuError::Unsupported { func, what } => {
+                write!(f, "{func}: not supported by this FMU ({what})")
+            }
             FmuError::Sim { func, error } => write!(f, "{func}: {error}"),
             FmuError::Panic { func, message } => {
                 write!(f, "{func}: internal error (caught panic: {message}); the instance is unusable, free it")
             }
-            FmuError::AfterFatal { func } => write!(f, "{func}: the instance is in the Fatal state; only fmi2FreeInstance is allowed"),
+            FmuError::AfterFatal { func } => write!(
+                f,
+                "{func}: the instance is in the Fatal state; only fmi2FreeInstance is allowed"
+            ),
         }
     }
 }
@@ -258,7 +278,11 @@ struct Experiment {
     stop: Option<f64>,
 }
 
-const DEFAULT_EXPERIMENT: Experiment = Experiment { tolerance: None, start: 0.0, stop: None };
+const DEFAULT_EXPERIMENT: Experiment = Experiment {
+    tolerance: None,
+    start: 0.0,
+    stop: None,
+};
 
 /// An FMU state: a complete copy of everything that defines the instance, no pointers.
 #[derive(Clone)]
@@ -404,7 +428,12 @@ fn input_of(var: Var) -> Option<Input> {
 
 impl Instance {
     /// A new instance (after the shell checked GUID, type and name).
-    pub fn new(name: &str, logger: Fmi2CallbackLogger, env: Fmi2ComponentEnvironment, logging_on: bool) -> Instance {
+    pub fn new(
+        name: &str,
+        logger: Fmi2CallbackLogger,
+        env: Fmi2ComponentEnvironment,
+        logging_on: bool,
+    ) -> Instance {
         Instance {
             magic: INSTANCE_MAGIC,
             name: escape_message(name),
@@ -437,7 +466,10 @@ impl Instance {
     /// Sends a message to the master's logger. Errors and discards are always sent;
     /// other messages only when their category is enabled by fmi2SetDebugLogging.
     pub fn log(&self, status: Fmi2Status, category: Category, msg: &str) {
-        let forced = matches!(status, Fmi2Status::Error | Fmi2Status::Fatal | Fmi2Status::Discard);
+        let forced = matches!(
+            status,
+            Fmi2Status::Error | Fmi2Status::Fatal | Fmi2Status::Discard
+        );
         if !forced && !self.categories[category as usize] {
             return;
         }
@@ -446,7 +478,15 @@ impl Instance {
             let m = escape_message(msg);
             // SAFETY: the master's callback with NUL-terminated strings that outlive the call;
             // the message contains no '%' conversion, so a printf-style logger reads no varargs.
-            unsafe { logger(self.env, self.name.as_ptr(), status, cat.as_ptr(), m.as_ptr()) };
+            unsafe {
+                logger(
+                    self.env,
+                    self.name.as_ptr(),
+                    status,
+                    cat.as_ptr(),
+                    m.as_ptr(),
+                )
+            };
         }
     }
 
@@ -468,7 +508,10 @@ impl Instance {
             return Err(FmuError::AfterFatal { func });
         }
         if allowed & self.phase.bit() == 0 {
-            return Err(FmuError::IllegalCall { func, phase: self.phase });
+            return Err(FmuError::IllegalCall {
+                func,
+                phase: self.phase,
+            });
         }
         Ok(())
     }
@@ -477,7 +520,11 @@ impl Instance {
     /// Discard -> StepFailed. Returns the status.
     pub fn fail(&mut self, e: &FmuError) -> Fmi2Status {
         let status = e.status();
-        let cat = if status == Fmi2Status::Discard { Category::Warning } else { Category::Error };
+        let cat = if status == Fmi2Status::Discard {
+            Category::Warning
+        } else {
+            Category::Error
+        };
         self.log(status, cat, &e.to_string());
         match status {
             Fmi2Status::Fatal => self.phase = Phase::Fatal,
@@ -510,7 +557,10 @@ impl Instance {
                 other => {
                     return Err(FmuError::BadArgument {
                         func,
-                        message: format!("unknown log category \"{other}\" (known: {})", LOG_CATEGORIES.join(", ")),
+                        message: format!(
+                            "unknown log category \"{other}\" (known: {})",
+                            LOG_CATEGORIES.join(", ")
+                        ),
                     })
                 }
             }
@@ -523,23 +573,41 @@ impl Instance {
     ///
     /// # Errors
     /// Non-finite or non-positive tolerance, non-finite start, stop before start.
-    pub fn setup_experiment(&mut self, tol: Option<f64>, start: f64, stop: Option<f64>) -> Result<(), FmuError> {
+    pub fn setup_experiment(
+        &mut self,
+        tol: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), FmuError> {
         let func = "fmi2SetupExperiment";
         self.guard(func, allowed::SETUP_EXPERIMENT)?;
         if let Some(t) = tol {
             if !(t > 0.0 && t.is_finite()) {
-                return Err(FmuError::BadArgument { func, message: format!("tolerance = {t} must be a positive finite number") });
+                return Err(FmuError::BadArgument {
+                    func,
+                    message: format!("tolerance = {t} must be a positive finite number"),
+                });
             }
         }
         if !start.is_finite() {
-            return Err(FmuError::BadArgument { func, message: format!("startTime = {start} is not finite") });
+            return Err(FmuError::BadArgument {
+                func,
+                message: format!("startTime = {start} is not finite"),
+            });
         }
         if let Some(s) = stop {
             if s.is_nan() || s < start {
-                return Err(FmuError::BadArgument { func, message: format!("stopTime = {s} is before startTime = {start}") });
+                return Err(FmuError::BadArgument {
+                    func,
+                    message: format!("stopTime = {s} is before startTime = {start}"),
+                });
             }
         }
-        self.experiment = Experiment { tolerance: tol, start, stop };
+        self.experiment = Experiment {
+            tolerance: tol,
+            start,
+            stop,
+        };
         self.dirty = true;
         Ok(())
     }
@@ -565,7 +633,11 @@ impl Instance {
         use Var::*;
         let law = self.v(friction_law);
         if law != 1.0 {
-            return Err(ParamError { name: "friction_law", value: law, requirement: "friction_law = 1 (Coulomb)".into() });
+            return Err(ParamError {
+                name: "friction_law",
+                value: law,
+                requirement: "friction_law = 1 (Coulomb)".into(),
+            });
         }
         let gear = GearData {
             z1: self.v(z1) as i32,
@@ -605,8 +677,20 @@ impl Instance {
 
     fn settings(&self) -> (SolverSettings, &'static str) {
         match self.experiment.tolerance {
-            Some(t) => (SolverSettings { rtol: t, h_max: self.v(Var::h_max) }, "fmi2SetupExperiment"),
-            None => (SolverSettings { rtol: self.v(Var::rtol), h_max: self.v(Var::h_max) }, "the parameter rtol"),
+            Some(t) => (
+                SolverSettings {
+                    rtol: t,
+                    h_max: self.v(Var::h_max),
+                },
+                "fmi2SetupExperiment",
+            ),
+            None => (
+                SolverSettings {
+                    rtol: self.v(Var::rtol),
+                    h_max: self.v(Var::h_max),
+                },
+                "the parameter rtol",
+            ),
         }
     }
 
@@ -618,13 +702,21 @@ impl Instance {
         let sim_err = |error| FmuError::Sim { func, error };
         let params = self.params().map_err(|e| sim_err(SimError::Param(e)))?;
         let (settings, _) = self.settings();
-        let mut sim = Simulation::new(params, settings, self.experiment.start, self.v(Var::omega1), self.v(Var::T_load))
-            .map_err(sim_err)?;
+        let mut sim = Simulation::new(
+            params,
+            settings,
+            self.experiment.start,
+            self.v(Var::omega1),
+            self.v(Var::T_load),
+        )
+        .map_err(sim_err)?;
         if self.input_der[0] != 0.0 {
-            sim.set_input_derivative(Input::Omega1, self.input_der[0]).map_err(sim_err)?;
+            sim.set_input_derivative(Input::Omega1, self.input_der[0])
+                .map_err(sim_err)?;
         }
         if self.input_der[1] != 0.0 {
-            sim.set_input_derivative(Input::TLoad, self.input_der[1]).map_err(sim_err)?;
+            sim.set_input_derivative(Input::TLoad, self.input_der[1])
+                .map_err(sim_err)?;
         }
         self.sim = Some(sim);
         self.dirty = false;
@@ -667,7 +759,11 @@ impl Instance {
         self.guard("fmi2Terminate", allowed::TERMINATE)?;
         if let Some(sim) = &self.sim {
             if self.enabled(Category::Solver) {
-                self.log(Fmi2Status::OK, Category::Solver, &format!("RADAU5 totals at t = {}: {}", sim.time(), sim.stats()));
+                self.log(
+                    Fmi2Status::OK,
+                    Category::Solver,
+                    &format!("RADAU5 totals at t = {}: {}", sim.time(), sim.stats()),
+                );
             }
         }
         self.phase = Phase::Terminated;
@@ -722,14 +818,22 @@ impl Instance {
                 }
                 let sim = self.sim.as_ref().ok_or(FmuError::BadArgument {
                     func,
-                    message: format!("{} is not available: the model was not initialised", var.name),
+                    message: format!(
+                        "{} is not available: the model was not initialised",
+                        var.name
+                    ),
                 })?;
-                calculated_value(sim.model().geometry(), var.var)
-                    .ok_or(FmuError::BadArgument { func, message: format!("{} has no value", var.name) })
+                calculated_value(sim.model().geometry(), var.var).ok_or(FmuError::BadArgument {
+                    func,
+                    message: format!("{} has no value", var.name),
+                })
             }
             Causality::Output => {
                 let o = self.current_outputs(func)?;
-                output_value(&o, var.var).ok_or(FmuError::BadArgument { func, message: format!("{} has no value", var.name) })
+                output_value(&o, var.var).ok_or(FmuError::BadArgument {
+                    func,
+                    message: format!("{} has no value", var.name),
+                })
             }
         }
     }
@@ -738,7 +842,13 @@ impl Instance {
     ///
     /// # Errors
     /// Illegal call, unknown value reference, outputs before initialisation.
-    pub fn get(&mut self, func: &'static str, ty: VarType, vrs: &[u32], out: &mut dyn FnMut(usize, f64)) -> Result<(), FmuError> {
+    pub fn get(
+        &mut self,
+        func: &'static str,
+        ty: VarType,
+        vrs: &[u32],
+        out: &mut dyn FnMut(usize, f64),
+    ) -> Result<(), FmuError> {
         self.guard(func, allowed::GET)?;
         for (i, &vr) in vrs.iter().enumerate() {
             let var = Self::lookup(func, ty, vr)?;
@@ -754,7 +864,13 @@ impl Instance {
     /// # Errors
     /// Illegal call, unknown value reference, variable not settable now, NaN/inf,
     /// tunable parameter out of bounds.
-    pub fn set(&mut self, func: &'static str, ty: VarType, vrs: &[u32], value: &dyn Fn(usize) -> f64) -> Result<(), FmuError> {
+    pub fn set(
+        &mut self,
+        func: &'static str,
+        ty: VarType,
+        vrs: &[u32],
+        value: &dyn Fn(usize) -> f64,
+    ) -> Result<(), FmuError> {
         self.guard(func, allowed::SET)?;
         let stepping = self.phase == Phase::StepComplete;
         for (i, &vr) in vrs.iter().enumerate() {
@@ -763,17 +879,29 @@ impl Instance {
                 (Causality::Input, _) => None,
                 (Causality::Parameter, Variability::Tunable) => None,
                 (Causality::Parameter, _) if !stepping => None,
-                (Causality::Parameter, _) => Some("it is a fixed parameter and the model is initialised"),
+                (Causality::Parameter, _) => {
+                    Some("it is a fixed parameter and the model is initialised")
+                }
                 (Causality::Output, _) => Some("it is an output"),
                 (Causality::CalculatedParameter, _) => Some("it is a calculated parameter"),
                 _ => Some("it is not an input or parameter"),
             };
             if let Some(why) = why {
-                return Err(FmuError::NotSettable { func, name: var.name, why });
+                return Err(FmuError::NotSettable {
+                    func,
+                    name: var.name,
+                    why,
+                });
             }
             let x = value(i);
             if !x.is_finite() {
-                return Err(FmuError::Sim { func, error: SimError::NonFinite { name: var.name, value: x } });
+                return Err(FmuError::Sim {
+                    func,
+                    error: SimError::NonFinite {
+                        name: var.name,
+                        value: x,
+                    },
+                });
             }
         }
         for (i, &vr) in vrs.iter().enumerate() {
@@ -802,29 +930,52 @@ impl Instance {
     ///
     /// # Errors
     /// Illegal call, order != 1, not an input, NaN/inf.
-    pub fn set_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> Result<(), FmuError> {
+    pub fn set_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<(), FmuError> {
         let func = "fmi2SetRealInputDerivatives";
         self.guard(func, allowed::SET_INPUT_DER)?;
         for (i, &vr) in vrs.iter().enumerate() {
             let var = Self::lookup(func, VarType::Real, vr)?;
-            let inp = input_of(var.var).ok_or(FmuError::NotSettable { func, name: var.name, why: "it is not an input" })?;
+            let inp = input_of(var.var).ok_or(FmuError::NotSettable {
+                func,
+                name: var.name,
+                why: "it is not an input",
+            })?;
             if orders[i] != 1 {
                 return Err(FmuError::BadArgument {
                     func,
-                    message: format!("derivative order {} of {} is not supported (only order 1)", orders[i], var.name),
+                    message: format!(
+                        "derivative order {} of {} is not supported (only order 1)",
+                        orders[i], var.name
+                    ),
                 });
             }
             if !values[i].is_finite() {
-                return Err(FmuError::Sim { func, error: SimError::NonFinite { name: var.name, value: values[i] } });
+                return Err(FmuError::Sim {
+                    func,
+                    error: SimError::NonFinite {
+                        name: var.name,
+                        value: values[i],
+                    },
+                });
             }
             let k = match inp {
                 Input::Omega1 => 0,
                 Input::TLoad => 1,
             };
             self.input_der[k] = values[i];
-            match self.sim.as_mut().filter(|_| self.phase == Phase::StepComplete) {
+            match self
+                .sim
+                .as_mut()
+                .filter(|_| self.phase == Phase::StepComplete)
+            {
                 Some(sim) => {
-                    sim.set_input_derivative(inp, values[i]).map_err(|error| FmuError::Sim { func, error })?;
+                    sim.set_input_derivative(inp, values[i])
+                        .map_err(|error| FmuError::Sim { func, error })?;
                     self.outputs = None;
                 }
                 None => self.dirty = true,
@@ -837,24 +988,38 @@ impl Instance {
     ///
     /// # Errors
     /// Illegal call, order != 1, not a Real output.
-    pub fn get_output_derivatives(&mut self, vrs: &[u32], orders: &[i32], out: &mut [f64]) -> Result<(), FmuError> {
+    pub fn get_output_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        out: &mut [f64],
+    ) -> Result<(), FmuError> {
         let func = "fmi2GetRealOutputDerivatives";
         self.guard(func, allowed::GET_OUTPUT_DER)?;
         let mut vars = Vec::with_capacity(vrs.len());
         for (i, &vr) in vrs.iter().enumerate() {
             let var = Self::lookup(func, VarType::Real, vr)?;
             if var.causality != Causality::Output {
-                return Err(FmuError::BadArgument { func, message: format!("{} is not an output", var.name) });
+                return Err(FmuError::BadArgument {
+                    func,
+                    message: format!("{} is not an output", var.name),
+                });
             }
             if orders[i] != 1 {
                 return Err(FmuError::BadArgument {
                     func,
-                    message: format!("derivative order {} of {} is not supported (maxOutputDerivativeOrder = 1)", orders[i], var.name),
+                    message: format!(
+                        "derivative order {} of {} is not supported (maxOutputDerivativeOrder = 1)",
+                        orders[i], var.name
+                    ),
                 });
             }
             vars.push(var.var);
         }
-        let sim = self.sim.as_mut().ok_or(FmuError::BadArgument { func, message: "the model was not initialised".into() })?;
+        let sim = self.sim.as_mut().ok_or(FmuError::BadArgument {
+            func,
+            message: "the model was not initialised".into(),
+        })?;
         let (om, op, delta) = sim.outputs_for_derivative();
         for (o, var) in out.iter_mut().zip(vars) {
             let a = output_value(&om, var).unwrap_or(0.0);
@@ -871,13 +1036,20 @@ impl Instance {
     pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<(), FmuError> {
         let func = "fmi2DoStep";
         self.guard(func, allowed::DO_STEP)?;
-        let sim = self.sim.as_mut().ok_or(FmuError::BadArgument { func, message: "no simulation".into() })?;
+        let sim = self.sim.as_mut().ok_or(FmuError::BadArgument {
+            func,
+            message: "no simulation".into(),
+        })?;
         let t0 = sim.time();
         let r = sim.do_step(ccp, h);
         self.outputs = None;
         let report = r.map_err(|error| FmuError::Sim { func, error })?;
         if report.contact_changes > 0 && self.enabled(Category::Events) {
-            let what = if report.contact_lost { "lifted off (lambda < 0)" } else { "back in contact (lambda >= 0)" };
+            let what = if report.contact_lost {
+                "lifted off (lambda < 0)"
+            } else {
+                "back in contact (lambda >= 0)"
+            };
             self.log(
                 Fmi2Status::OK,
                 Category::Events,
@@ -893,7 +1065,12 @@ impl Instance {
             self.log(
                 Fmi2Status::OK,
                 Category::Solver,
-                &format!("doStep [{t0}, {}] s{}: {}", ccp + h, if report.restarted { " (restart)" } else { "" }, report.stats),
+                &format!(
+                    "doStep [{t0}, {}] s{}: {}",
+                    ccp + h,
+                    if report.restarted { " (restart)" } else { "" },
+                    report.stats
+                ),
             );
         }
         Ok(())
@@ -901,7 +1078,9 @@ impl Instance {
 
     /// Time of the last successful step (fmi2GetRealStatus(fmi2LastSuccessfulTime)).
     pub fn last_successful_time(&self) -> f64 {
-        self.sim.as_ref().map_or(self.experiment.start, |s| s.last_successful_time())
+        self.sim
+            .as_ref()
+            .map_or(self.experiment.start, |s| s.last_successful_time())
     }
 
     /// fmi2GetFMUstate: a snapshot of everything.
@@ -919,7 +1098,11 @@ impl Instance {
             values: self.values,
             input_der: self.input_der,
             experiment: self.experiment,
-            sim: if self.dirty { None } else { self.sim.as_ref().map(Simulation::state) },
+            sim: if self.dirty {
+                None
+            } else {
+                self.sim.as_ref().map(Simulation::state)
+            },
         }
     }
 
@@ -932,8 +1115,14 @@ impl Instance {
         let func = "fmi2SetFMUstate";
         self.guard(func, allowed::FMU_STATE)?;
         match (&s.sim, self.sim.as_mut()) {
-            (Some(ss), Some(sim)) => sim.restore(ss).map_err(|error| FmuError::Sim { func, error })?,
-            (Some(ss), None) => self.sim = Some(Simulation::from_state(ss).map_err(|error| FmuError::Sim { func, error })?),
+            (Some(ss), Some(sim)) => sim
+                .restore(ss)
+                .map_err(|error| FmuError::Sim { func, error })?,
+            (Some(ss), None) => {
+                self.sim = Some(
+                    Simulation::from_state(ss).map_err(|error| FmuError::Sim { func, error })?,
+                )
+            }
             (None, _) => self.sim = None,
         }
         self.dirty = self.sim.is_none();
@@ -973,19 +1162,30 @@ impl Instance {
     /// Foreign, corrupted or incompatible buffer (never panics).
     pub fn deserialize_state(bytes: &[u8]) -> Result<FmuState, FmuError> {
         let func = "fmi2DeSerializeFMUstate";
-        let de = |e: DecodeError| FmuError::Sim { func, error: SimError::Decode(e) };
+        let de = |e: DecodeError| FmuError::Sim {
+            func,
+            error: SimError::Decode(e),
+        };
         let payload = codec::open(variables::GUID, bytes).map_err(de)?;
         let mut r = Reader::new(payload);
-        let phase = Phase::from_code(r.u32("phase").map_err(de)?)
-            .ok_or_else(|| de(DecodeError { message: "unknown phase code".into() }))?;
+        let phase = Phase::from_code(r.u32("phase").map_err(de)?).ok_or_else(|| {
+            de(DecodeError {
+                message: "unknown phase code".into(),
+            })
+        })?;
         if r.u32("variable count").map_err(de)? as usize != N_VARIABLES {
-            return Err(de(DecodeError { message: "variable count differs".into() }));
+            return Err(de(DecodeError {
+                message: "variable count differs".into(),
+            }));
         }
         let mut values = [0.0; N_VARIABLES];
         for x in values.iter_mut() {
             *x = r.finite("variable value").map_err(de)?;
         }
-        let input_der = [r.finite("input derivative").map_err(de)?, r.finite("input derivative").map_err(de)?];
+        let input_der = [
+            r.finite("input derivative").map_err(de)?,
+            r.finite("input derivative").map_err(de)?,
+        ];
         let has_tol = r.bool("tolerance flag").map_err(de)?;
         let tol = r.f64("tolerance").map_err(de)?;
         let start = r.finite("start time").map_err(de)?;
@@ -1001,7 +1201,11 @@ impl Instance {
             phase,
             values,
             input_der,
-            experiment: Experiment { tolerance: has_tol.then_some(tol), start, stop: has_stop.then_some(stop) },
+            experiment: Experiment {
+                tolerance: has_tol.then_some(tol),
+                start,
+                stop: has_stop.then_some(stop),
+            },
             sim,
         })
     }

@@ -51,7 +51,10 @@ unsafe fn call(
     match r {
         Ok(Ok(s)) => s,
         Ok(Err(e)) => inst.fail(&e),
-        Err(p) => inst.fail(&FmuError::Panic { func, message: panic_message(p) }),
+        Err(p) => inst.fail(&FmuError::Panic {
+            func,
+            message: panic_message(p),
+        }),
     }
 }
 
@@ -59,7 +62,12 @@ unsafe fn call(
 ///
 /// # Safety
 /// Non-NULL `p` must point to `n` valid elements.
-unsafe fn slice<'a, T>(func: &'static str, arg: &'static str, p: *const T, n: usize) -> Result<&'a [T], FmuError> {
+unsafe fn slice<'a, T>(
+    func: &'static str,
+    arg: &'static str,
+    p: *const T,
+    n: usize,
+) -> Result<&'a [T], FmuError> {
     if n == 0 {
         Ok(&[])
     } else if p.is_null() {
@@ -74,7 +82,12 @@ unsafe fn slice<'a, T>(func: &'static str, arg: &'static str, p: *const T, n: us
 ///
 /// # Safety
 /// Non-NULL `p` must point to `n` valid, writable elements.
-unsafe fn slice_mut<'a, T>(func: &'static str, arg: &'static str, p: *mut T, n: usize) -> Result<&'a mut [T], FmuError> {
+unsafe fn slice_mut<'a, T>(
+    func: &'static str,
+    arg: &'static str,
+    p: *mut T,
+    n: usize,
+) -> Result<&'a mut [T], FmuError> {
     if n == 0 {
         Ok(&mut [])
     } else if p.is_null() {
@@ -132,7 +145,10 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
             let mut names = Vec::with_capacity(cats.len());
             for &p in cats {
                 if p.is_null() {
-                    return Err(FmuError::NullPointer { func, arg: "categories[i]" });
+                    return Err(FmuError::NullPointer {
+                        func,
+                        arg: "categories[i]",
+                    });
                 }
                 names.push(CStr::from_ptr(p).to_str().unwrap_or("<not UTF-8>"));
             }
@@ -166,11 +182,24 @@ pub unsafe extern "C" fn fmi2Instantiate(
             None
         } else {
             // SAFETY: caller contract.
-            Some(unsafe { CStr::from_ptr(instance_name) }.to_string_lossy().into_owned())
+            Some(
+                unsafe { CStr::from_ptr(instance_name) }
+                    .to_string_lossy()
+                    .into_owned(),
+            )
         };
-        let inst = Instance::new(name.as_deref().unwrap_or("?"), logger, env, logging_on != FMI2_FALSE);
+        let inst = Instance::new(
+            name.as_deref().unwrap_or("?"),
+            logger,
+            env,
+            logging_on != FMI2_FALSE,
+        );
         let err = |msg: String| {
-            inst.log(Fmi2Status::Error, Category::Error, &format!("fmi2Instantiate: {msg}"));
+            inst.log(
+                Fmi2Status::Error,
+                Category::Error,
+                &format!("fmi2Instantiate: {msg}"),
+            );
             ptr::null_mut()
         };
         if cb.is_none() {
@@ -180,7 +209,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
             return err("instanceName is a NULL pointer".into());
         }
         if fmu_type != FMI2_CO_SIMULATION {
-            return err(format!("fmuType = {fmu_type} is not fmi2CoSimulation (1); this FMU is Co-Simulation only"));
+            return err(format!(
+                "fmuType = {fmu_type} is not fmi2CoSimulation (1); this FMU is Co-Simulation only"
+            ));
         }
         if fmu_guid.is_null() {
             return err("fmuGUID is a NULL pointer".into());
@@ -254,7 +285,11 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 /// Valid component.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterInitializationMode(c: Fmi2Component) -> Fmi2Status {
-    unsafe { call(c, "fmi2EnterInitializationMode", |inst| inst.enter_initialization_mode().and(OK)) }
+    unsafe {
+        call(c, "fmi2EnterInitializationMode", |inst| {
+            inst.enter_initialization_mode().and(OK)
+        })
+    }
 }
 
 /// fmi2ExitInitializationMode (parameter validation happens here).
@@ -263,7 +298,11 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: Fmi2Component) -> Fmi2St
 /// Valid component.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: Fmi2Component) -> Fmi2Status {
-    unsafe { call(c, "fmi2ExitInitializationMode", |inst| inst.exit_initialization_mode().and(OK)) }
+    unsafe {
+        call(c, "fmi2ExitInitializationMode", |inst| {
+            inst.exit_initialization_mode().and(OK)
+        })
+    }
 }
 
 /// fmi2Terminate.
@@ -291,7 +330,12 @@ pub unsafe extern "C" fn fmi2Reset(c: Fmi2Component) -> Fmi2Status {
 /// # Safety
 /// FMI 2.0 caller contract (arrays of length nvr).
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetReal(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *mut Fmi2Real) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetReal(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2Real,
+) -> Fmi2Status {
     let func = "fmi2GetReal";
     unsafe {
         call(c, func, |inst| {
@@ -308,13 +352,20 @@ pub unsafe extern "C" fn fmi2GetReal(c: Fmi2Component, vr: *const Fmi2ValueRefer
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetInteger(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *mut Fmi2Integer) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2Integer,
+) -> Fmi2Status {
     let func = "fmi2GetInteger";
     unsafe {
         call(c, func, |inst| {
             let vrs = slice(func, "vr", vr, nvr)?;
             let out = slice_mut(func, "value", value, nvr)?;
-            inst.get(func, VarType::Integer, vrs, &mut |i, x| out[i] = x as Fmi2Integer)?;
+            inst.get(func, VarType::Integer, vrs, &mut |i, x| {
+                out[i] = x as Fmi2Integer
+            })?;
             OK
         })
     }
@@ -325,13 +376,20 @@ pub unsafe extern "C" fn fmi2GetInteger(c: Fmi2Component, vr: *const Fmi2ValueRe
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetBoolean(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *mut Fmi2Boolean) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2Boolean,
+) -> Fmi2Status {
     let func = "fmi2GetBoolean";
     unsafe {
         call(c, func, |inst| {
             let vrs = slice(func, "vr", vr, nvr)?;
             let out = slice_mut(func, "value", value, nvr)?;
-            inst.get(func, VarType::Boolean, vrs, &mut |i, x| out[i] = if x != 0.0 { FMI2_TRUE } else { FMI2_FALSE })?;
+            inst.get(func, VarType::Boolean, vrs, &mut |i, x| {
+                out[i] = if x != 0.0 { FMI2_TRUE } else { FMI2_FALSE }
+            })?;
             OK
         })
     }
@@ -342,7 +400,12 @@ pub unsafe extern "C" fn fmi2GetBoolean(c: Fmi2Component, vr: *const Fmi2ValueRe
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetString(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *mut Fmi2String) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetString(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2String,
+) -> Fmi2Status {
     let func = "fmi2GetString";
     unsafe {
         call(c, func, |inst| {
@@ -362,7 +425,12 @@ pub unsafe extern "C" fn fmi2GetString(c: Fmi2Component, vr: *const Fmi2ValueRef
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetReal(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *const Fmi2Real) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetReal(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2Real,
+) -> Fmi2Status {
     let func = "fmi2SetReal";
     unsafe {
         call(c, func, |inst| {
@@ -379,7 +447,12 @@ pub unsafe extern "C" fn fmi2SetReal(c: Fmi2Component, vr: *const Fmi2ValueRefer
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetInteger(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *const Fmi2Integer) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2Integer,
+) -> Fmi2Status {
     let func = "fmi2SetInteger";
     unsafe {
         call(c, func, |inst| {
@@ -396,13 +469,24 @@ pub unsafe extern "C" fn fmi2SetInteger(c: Fmi2Component, vr: *const Fmi2ValueRe
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetBoolean(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *const Fmi2Boolean) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2Boolean,
+) -> Fmi2Status {
     let func = "fmi2SetBoolean";
     unsafe {
         call(c, func, |inst| {
             let vrs = slice(func, "vr", vr, nvr)?;
             let vals = slice(func, "value", value, nvr)?;
-            inst.set(func, VarType::Boolean, vrs, &|i| if vals[i] != FMI2_FALSE { 1.0 } else { 0.0 })?;
+            inst.set(func, VarType::Boolean, vrs, &|i| {
+                if vals[i] != FMI2_FALSE {
+                    1.0
+                } else {
+                    0.0
+                }
+            })?;
             OK
         })
     }
@@ -413,7 +497,12 @@ pub unsafe extern "C" fn fmi2SetBoolean(c: Fmi2Component, vr: *const Fmi2ValueRe
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetString(c: Fmi2Component, vr: *const Fmi2ValueReference, nvr: usize, value: *const Fmi2String) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetString(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2String,
+) -> Fmi2Status {
     let func = "fmi2SetString";
     unsafe {
         call(c, func, |inst| {
@@ -432,7 +521,10 @@ pub unsafe extern "C" fn fmi2SetString(c: Fmi2Component, vr: *const Fmi2ValueRef
 
 fn check_state(inst: &Instance, func: &'static str, s: Fmi2FMUstate) -> Result<(), FmuError> {
     if s.is_null() {
-        return Err(FmuError::NullPointer { func, arg: "FMUstate" });
+        return Err(FmuError::NullPointer {
+            func,
+            arg: "FMUstate",
+        });
     }
     if !inst.states.contains(&(s as usize)) {
         return Err(FmuError::BadArgument {
@@ -453,7 +545,10 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: Fmi2Component, state: *mut Fmi2FMUst
     unsafe {
         call(c, func, |inst| {
             if state.is_null() {
-                return Err(FmuError::NullPointer { func, arg: "FMUstate" });
+                return Err(FmuError::NullPointer {
+                    func,
+                    arg: "FMUstate",
+                });
             }
             let s = inst.get_state()?;
             let old = *state;
@@ -492,7 +587,10 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: Fmi2Component, state: Fmi2FMUstate) 
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2FreeFMUstate(c: Fmi2Component, state: *mut Fmi2FMUstate) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: Fmi2Component,
+    state: *mut Fmi2FMUstate,
+) -> Fmi2Status {
     let func = "fmi2FreeFMUstate";
     unsafe {
         call(c, func, |inst| {
@@ -515,7 +613,11 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(c: Fmi2Component, state: *mut Fmi2FMUs
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SerializedFMUstateSize(c: Fmi2Component, state: Fmi2FMUstate, size: *mut usize) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: Fmi2Component,
+    state: Fmi2FMUstate,
+    size: *mut usize,
+) -> Fmi2Status {
     let func = "fmi2SerializedFMUstateSize";
     unsafe {
         call(c, func, |inst| {
@@ -550,10 +652,18 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
             if size < bytes.len() {
                 return Err(FmuError::BadArgument {
                     func,
-                    message: format!("buffer of {size} bytes is smaller than the state ({} bytes)", bytes.len()),
+                    message: format!(
+                        "buffer of {size} bytes is smaller than the state ({} bytes)",
+                        bytes.len()
+                    ),
                 });
             }
-            let out = slice_mut(func, "serializedState", serialized_state.cast::<u8>(), bytes.len())?;
+            let out = slice_mut(
+                func,
+                "serializedState",
+                serialized_state.cast::<u8>(),
+                bytes.len(),
+            )?;
             out.copy_from_slice(&bytes);
             OK
         })
@@ -576,7 +686,10 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         call(c, func, |inst| {
             inst.guard(func, allowed::FMU_STATE)?;
             if state.is_null() {
-                return Err(FmuError::NullPointer { func, arg: "FMUstate" });
+                return Err(FmuError::NullPointer {
+                    func,
+                    arg: "FMUstate",
+                });
             }
             let bytes = slice(func, "serializedState", serialized_state.cast::<u8>(), size)?;
             let s = Instance::deserialize_state(bytes)?;
@@ -606,7 +719,10 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     unsafe {
         call(c, func, |inst| {
             inst.guard(func, allowed::DIRECTIONAL)?;
-            Err(FmuError::Unsupported { func, what: "providesDirectionalDerivative = false" })
+            Err(FmuError::Unsupported {
+                func,
+                what: "providesDirectionalDerivative = false",
+            })
         })
     }
 }
@@ -674,7 +790,8 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> Fmi2Status {
     unsafe {
         call(c, "fmi2DoStep", |inst| {
-            inst.do_step(current_communication_point, communication_step_size).and(OK)
+            inst.do_step(current_communication_point, communication_step_size)
+                .and(OK)
         })
     }
 }
@@ -689,7 +806,10 @@ pub unsafe extern "C" fn fmi2CancelStep(c: Fmi2Component) -> Fmi2Status {
     unsafe {
         call(c, func, |inst| {
             inst.guard(func, allowed::CANCEL_STEP)?;
-            Err(FmuError::Unsupported { func, what: "fmi2DoStep never returns fmi2Pending (canRunAsynchronuously = false)" })
+            Err(FmuError::Unsupported {
+                func,
+                what: "fmi2DoStep never returns fmi2Pending (canRunAsynchronuously = false)",
+            })
         })
     }
 }
@@ -699,7 +819,11 @@ pub unsafe extern "C" fn fmi2CancelStep(c: Fmi2Component) -> Fmi2Status {
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetStatus(c: Fmi2Component, kind: c_int, value: *mut Fmi2Status) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetStatus(
+    c: Fmi2Component,
+    kind: c_int,
+    value: *mut Fmi2Status,
+) -> Fmi2Status {
     let func = "fmi2GetStatus";
     unsafe {
         call(c, func, |inst| {
@@ -712,7 +836,10 @@ pub unsafe extern "C" fn fmi2GetStatus(c: Fmi2Component, kind: c_int, value: *mu
                     *value = Fmi2Status::OK;
                     OK
                 }
-                _ => Err(FmuError::BadArgument { func, message: format!("status kind {kind} is not provided (no asynchronous steps)") }),
+                _ => Err(FmuError::BadArgument {
+                    func,
+                    message: format!("status kind {kind} is not provided (no asynchronous steps)"),
+                }),
             }
         })
     }
@@ -723,7 +850,11 @@ pub unsafe extern "C" fn fmi2GetStatus(c: Fmi2Component, kind: c_int, value: *mu
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetRealStatus(c: Fmi2Component, kind: c_int, value: *mut Fmi2Real) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: Fmi2Component,
+    kind: c_int,
+    value: *mut Fmi2Real,
+) -> Fmi2Status {
     let func = "fmi2GetRealStatus";
     unsafe {
         call(c, func, |inst| {
@@ -732,7 +863,10 @@ pub unsafe extern "C" fn fmi2GetRealStatus(c: Fmi2Component, kind: c_int, value:
                 return Err(FmuError::NullPointer { func, arg: "value" });
             }
             if kind != status_kind::LAST_SUCCESSFUL_TIME {
-                return Err(FmuError::BadArgument { func, message: format!("status kind {kind} is not fmi2LastSuccessfulTime (2)") });
+                return Err(FmuError::BadArgument {
+                    func,
+                    message: format!("status kind {kind} is not fmi2LastSuccessfulTime (2)"),
+                });
             }
             *value = inst.last_successful_time();
             OK
@@ -745,12 +879,19 @@ pub unsafe extern "C" fn fmi2GetRealStatus(c: Fmi2Component, kind: c_int, value:
 /// # Safety
 /// Valid component.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetIntegerStatus(c: Fmi2Component, kind: c_int, _value: *mut Fmi2Integer) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetIntegerStatus(
+    c: Fmi2Component,
+    kind: c_int,
+    _value: *mut Fmi2Integer,
+) -> Fmi2Status {
     let func = "fmi2GetIntegerStatus";
     unsafe {
         call(c, func, |inst| {
             inst.guard(func, allowed::STATUS)?;
-            Err(FmuError::BadArgument { func, message: format!("status kind {kind}: FMI 2.0 defines no integer status") })
+            Err(FmuError::BadArgument {
+                func,
+                message: format!("status kind {kind}: FMI 2.0 defines no integer status"),
+            })
         })
     }
 }
@@ -760,7 +901,11 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(c: Fmi2Component, kind: c_int, _va
 /// # Safety
 /// FMI 2.0 caller contract.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetBooleanStatus(c: Fmi2Component, kind: c_int, value: *mut Fmi2Boolean) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: Fmi2Component,
+    kind: c_int,
+    value: *mut Fmi2Boolean,
+) -> Fmi2Status {
     let func = "fmi2GetBooleanStatus";
     unsafe {
         call(c, func, |inst| {
@@ -769,7 +914,10 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(c: Fmi2Component, kind: c_int, val
                 return Err(FmuError::NullPointer { func, arg: "value" });
             }
             if kind != status_kind::TERMINATED {
-                return Err(FmuError::BadArgument { func, message: format!("status kind {kind} is not fmi2Terminated (3)") });
+                return Err(FmuError::BadArgument {
+                    func,
+                    message: format!("status kind {kind} is not fmi2Terminated (3)"),
+                });
             }
             *value = FMI2_FALSE;
             OK
@@ -782,12 +930,19 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(c: Fmi2Component, kind: c_int, val
 /// # Safety
 /// Valid component.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetStringStatus(c: Fmi2Component, kind: c_int, _value: *mut Fmi2String) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetStringStatus(
+    c: Fmi2Component,
+    kind: c_int,
+    _value: *mut Fmi2String,
+) -> Fmi2Status {
     let func = "fmi2GetStringStatus";
     unsafe {
         call(c, func, |inst| {
             inst.guard(func, allowed::STATUS)?;
-            Err(FmuError::BadArgument { func, message: format!("status kind {kind}: no string status (no asynchronous steps)") })
+            Err(FmuError::BadArgument {
+                func,
+                message: format!("status kind {kind}: no string status (no asynchronous steps)"),
+            })
         })
     }
 }

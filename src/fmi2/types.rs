@@ -61,8 +61,16 @@ pub mod status_kind {
 }
 
 /// `fmi2CallbackLogger` (variadic: the message is a printf format).
-pub type Fmi2CallbackLogger =
-    Option<unsafe extern "C" fn(Fmi2ComponentEnvironment, Fmi2String, Fmi2Status, Fmi2String, Fmi2String, ...)>;
+pub type Fmi2CallbackLogger = Option<
+    unsafe extern "C" fn(
+        Fmi2ComponentEnvironment,
+        Fmi2String,
+        Fmi2Status,
+        Fmi2String,
+        Fmi2String,
+        ...
+    ),
+>;
 /// `fmi2CallbackAllocateMemory`.
 pub type Fmi2CallbackAllocateMemory = Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>;
 /// `fmi2CallbackFreeMemory`.

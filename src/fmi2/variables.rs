@@ -76,7 +76,8 @@ pub struct Variable {
 include!(concat!(env!("OUT_DIR"), "/variables_gen.rs"));
 
 /// The model description with the GUID filled in, byte for byte what goes into the .fmu.
-pub const MODEL_DESCRIPTION_XML: &str = include_str!(concat!(env!("OUT_DIR"), "/modelDescription.xml"));
+pub const MODEL_DESCRIPTION_XML: &str =
+    include_str!(concat!(env!("OUT_DIR"), "/modelDescription.xml"));
 
 /// The table row of a variable.
 pub fn variable(var: Var) -> &'static Variable {

@@ -25,7 +25,9 @@ impl fmt::Display for DecodeError {
 impl std::error::Error for DecodeError {}
 
 fn err(message: impl Into<String>) -> DecodeError {
-    DecodeError { message: message.into() }
+    DecodeError {
+        message: message.into(),
+    }
 }
 
 /// 64-bit FNV-1a; the same small hash build.rs uses for the GUID. Detects corruption
@@ -196,7 +198,10 @@ pub fn seal(guid: &str, payload: &[u8]) -> Vec<u8> {
 /// length or checksum (corrupted).
 pub fn open<'a>(guid: &str, buf: &'a [u8]) -> Result<&'a [u8], DecodeError> {
     if buf.len() < MAGIC.len() + 4 + 8 + 8 + 8 {
-        return Err(err(format!("buffer of {} bytes is too short to be a GearedRotor FMU state", buf.len())));
+        return Err(err(format!(
+            "buffer of {} bytes is too short to be a GearedRotor FMU state",
+            buf.len()
+        )));
     }
     if buf[..8] != MAGIC {
         return Err(err("not a GearedRotor FMU state (wrong magic number)"));
@@ -205,12 +210,16 @@ pub fn open<'a>(guid: &str, buf: &'a [u8]) -> Result<&'a [u8], DecodeError> {
     let mut sum = [0u8; 8];
     sum.copy_from_slice(&buf[buf.len() - 8..]);
     if fnv1a64(body) != u64::from_le_bytes(sum) {
-        return Err(err("checksum mismatch: the serialized FMU state is corrupted"));
+        return Err(err(
+            "checksum mismatch: the serialized FMU state is corrupted",
+        ));
     }
     let mut r = Reader::new(&body[8..]);
     let version = r.u32("version")?;
     if version != VERSION {
-        return Err(err(format!("serialized FMU state has layout version {version}, this FMU reads {VERSION}")));
+        return Err(err(format!(
+            "serialized FMU state has layout version {version}, this FMU reads {VERSION}"
+        )));
     }
     let g = r.bytes("GUID")?;
     if g != guid.as_bytes() {
