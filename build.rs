@@ -132,6 +132,10 @@ fn attrs(e: &BytesStart) -> HashMap<String, String> {
     for a in e.attributes() {
         let a = a.unwrap_or_else(|err| fail(format!("malformed attribute: {err}")));
         let key = String::from_utf8_lossy(a.key.as_ref()).into_owned();
+        if a.value.contains(&b'<') {
+            // quick-xml tolerates it, XML (and FMPy's lxml) does not.
+            fail(format!("attribute {key} contains a raw '<' (write &lt;)"));
+        }
         let val = a
             .unescape_value()
             .unwrap_or_else(|err| fail(format!("bad attribute value of {key}: {err}")))
