@@ -218,7 +218,7 @@ impl fmt::Display for SimError {
             }
             SimError::CommunicationPoint { expected, got, tolerance } => write!(
                 f,
-                "currentCommunicationPoint = {got:.17e} s does not match the FMU time {expected:.17e} s (tolerance {tolerance:e} s)"
+                "currentCommunicationPoint = {got} s does not match the FMU time {expected} s (tolerance {tolerance:e} s)"
             ),
             SimError::NonFinite { name, value } => write!(f, "{name} = {value} is not a finite number"),
             SimError::Decode(e) => write!(f, "invalid serialized FMU state: {e}"),
