@@ -798,7 +798,7 @@ impl Instance {
         if let Some(o) = self.outputs {
             return Ok(o);
         }
-        let sim = self.sim.as_ref().ok_or(FmuError::BadArgument {
+        let sim = self.sim.as_ref().ok_or_else(|| FmuError::BadArgument {
             func,
             message: "outputs are not available: the model was not initialised".into(),
         })?;
@@ -816,21 +816,23 @@ impl Instance {
                 if self.phase == Phase::InitializationMode {
                     self.ensure_sim(func)?;
                 }
-                let sim = self.sim.as_ref().ok_or(FmuError::BadArgument {
+                let sim = self.sim.as_ref().ok_or_else(|| FmuError::BadArgument {
                     func,
                     message: format!(
                         "{} is not available: the model was not initialised",
                         var.name
                     ),
                 })?;
-                calculated_value(sim.model().geometry(), var.var).ok_or(FmuError::BadArgument {
-                    func,
-                    message: format!("{} has no value", var.name),
+                calculated_value(sim.model().geometry(), var.var).ok_or_else(|| {
+                    FmuError::BadArgument {
+                        func,
+                        message: format!("{} has no value", var.name),
+                    }
                 })
             }
             Causality::Output => {
                 let o = self.current_outputs(func)?;
-                output_value(&o, var.var).ok_or(FmuError::BadArgument {
+                output_value(&o, var.var).ok_or_else(|| FmuError::BadArgument {
                     func,
                     message: format!("{} has no value", var.name),
                 })
@@ -1016,7 +1018,7 @@ impl Instance {
             }
             vars.push(var.var);
         }
-        let sim = self.sim.as_mut().ok_or(FmuError::BadArgument {
+        let sim = self.sim.as_mut().ok_or_else(|| FmuError::BadArgument {
             func,
             message: "the model was not initialised".into(),
         })?;
@@ -1036,7 +1038,7 @@ impl Instance {
     pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<(), FmuError> {
         let func = "fmi2DoStep";
         self.guard(func, allowed::DO_STEP)?;
-        let sim = self.sim.as_mut().ok_or(FmuError::BadArgument {
+        let sim = self.sim.as_mut().ok_or_else(|| FmuError::BadArgument {
             func,
             message: "no simulation".into(),
         })?;
