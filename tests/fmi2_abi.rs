@@ -570,3 +570,31 @@ fn every_output_is_readable_and_finite_after_init_and_steps() {
     assert!((f.real("omega2") - 314.159 * 27.0 / 41.0).abs() < 1e-6 * 314.159);
     assert!((f.real("r_b1") - 26.793197e-3).abs() < 1e-9);
 }
+
+#[test]
+fn instances_in_many_threads_equal_one_at_a_time() {
+    let mus = [0.0, 0.02, 0.05, 0.08];
+    let alone: Vec<Vec<f64>> = mus
+        .iter()
+        .map(|&mu| {
+            let f = Fmu::new("seq", false);
+            assert_eq!(f.set_real("mu", mu), Fmi2Status::OK);
+            f.init();
+            run(&f, 0.0, 200)
+        })
+        .collect();
+    let handles: Vec<_> = mus
+        .iter()
+        .map(|&mu| {
+            std::thread::spawn(move || {
+                let f = Fmu::new("thread", false);
+                assert_eq!(f.set_real("mu", mu), Fmi2Status::OK);
+                f.init();
+                run(&f, 0.0, 200)
+            })
+        })
+        .collect();
+    for (h, a) in handles.into_iter().zip(alone) {
+        assert_eq!(h.join().unwrap(), a);
+    }
+}
