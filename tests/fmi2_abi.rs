@@ -598,3 +598,34 @@ fn instances_in_many_threads_equal_one_at_a_time() {
         assert_eq!(h.join().unwrap(), a);
     }
 }
+
+#[test]
+fn communication_step_size_does_not_change_the_result_beyond_tolerance() {
+    // Same physics sampled every 1 ms with H = 1e-5 s and H = 1e-3 s (rtol 1e-6): the
+    // difference must be of the order of the tolerance, not of the step size.
+    let a = Fmu::new("fine", false);
+    let b = Fmu::new("coarse", false);
+    a.init();
+    b.init();
+    let names = ["Fn", "T1", "omega2", "TE", "E_in", "u1.x"];
+    let mut worst = [0.0f64; 6];
+    for ms in 0..10 {
+        let t0 = ms as f64 * 1e-3;
+        for k in 0..100 {
+            assert_eq!(a.step(t0 + k as f64 * 1e-5, 1e-5), Fmi2Status::OK);
+        }
+        assert_eq!(b.step(t0, 1e-3), Fmi2Status::OK);
+        for (i, n) in names.iter().enumerate() {
+            let (x, y) = (a.real(n), b.real(n));
+            let scale = match *n {
+                "TE" | "u1.x" => 1e-5,
+                _ => x.abs().max(1.0),
+            };
+            worst[i] = worst[i].max((x - y).abs() / scale);
+        }
+    }
+    for (n, w) in names.iter().zip(worst) {
+        println!("{n}: worst relative difference {w:e}");
+        assert!(w < 5e-5, "{n}: relative difference {w:e}");
+    }
+}
