@@ -8,6 +8,8 @@
 //! [`instance::FmuError::status`] (the one place where that mapping lives).
 
 pub mod instance;
+#[cfg(test)]
+mod model_description_check;
 pub mod types;
 pub mod variables;
 
