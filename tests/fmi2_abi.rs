@@ -629,3 +629,42 @@ fn communication_step_size_does_not_change_the_result_beyond_tolerance() {
         assert!(w < 5e-5, "{n}: relative difference {w:e}");
     }
 }
+
+#[test]
+fn re_sent_inputs_restart_the_stepper_only_when_the_input_function_changes() {
+    // FMPy-style: at every communication point the master sets the value of a ramp and its
+    // derivative. Only the first point (ramp starts) and the kink at 5 ms may restart.
+    let f = Fmu::new("ramp", false);
+    let s = CString::new("logSolver").unwrap();
+    let sp = s.as_ptr();
+    assert_eq!(
+        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) },
+        Fmi2Status::OK
+    );
+    f.init();
+    let w = vr("omega1");
+    let one = 1;
+    let h = 1e-4;
+    for n in 0..100 {
+        let t = n as f64 * h;
+        let (value, slope) = if t < 5e-3 - 1e-12 {
+            (314.159 + 1000.0 * t, 1000.0)
+        } else {
+            (319.159, 0.0)
+        };
+        assert_eq!(unsafe { fmi2SetReal(f.c, &w, 1, &value) }, Fmi2Status::OK);
+        assert_eq!(
+            unsafe { fmi2SetRealInputDerivatives(f.c, &w, 1, &one, &slope) },
+            Fmi2Status::OK
+        );
+        assert_eq!(f.step(t, h), Fmi2Status::OK);
+    }
+    let restarts: Vec<String> = f
+        .messages()
+        .into_iter()
+        .filter(|m| m.2.contains("(restart)"))
+        .map(|m| m.2)
+        .collect();
+    assert_eq!(restarts.len(), 2, "{restarts:?}");
+    assert!(restarts[0].starts_with("doStep [0,"), "{restarts:?}");
+}

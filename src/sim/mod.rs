@@ -307,6 +307,7 @@ pub struct SimState {
     settings: SolverSettings,
     init: InitRecord,
     inputs: Inputs,
+    inputs_ref: Inputs,
     der_set: [bool; 2],
     restart_pending: bool,
     contact_lost: bool,
@@ -321,6 +322,9 @@ pub struct Simulation {
     init: InitRecord,
     /// Per input: a derivative was set at the current communication point.
     der_set: [bool; 2],
+    /// The input function the stepper was last (re)started with; a doStep restarts RADAU5
+    /// only if the inputs now describe a different function.
+    inputs_ref: Inputs,
     restart_pending: bool,
     contact_lost: bool,
     last_successful_time: f64,
@@ -395,6 +399,7 @@ impl Simulation {
             settings,
             init,
             der_set: [false; 2],
+            inputs_ref: inputs,
             restart_pending: false,
             contact_lost,
             last_successful_time: t_start,
@@ -445,14 +450,7 @@ impl Simulation {
 
     /// The inputs rebased to time t: value(t) = value + der (t - t_ref).
     fn rebased(&self, t: f64) -> Inputs {
-        let i = *self.problem.model.inputs();
-        Inputs {
-            omega1: i.omega1 + i.omega1_der * (t - i.t_ref),
-            omega1_der: i.omega1_der,
-            t_load: i.t_load + i.t_load_der * (t - i.t_ref),
-            t_load_der: i.t_load_der,
-            t_ref: t,
-        }
+        rebase(self.problem.model.inputs(), t)
     }
 
     /// Value of an input at the current time (what the master set, extrapolated with its
@@ -467,16 +465,8 @@ impl Simulation {
 
     fn apply_inputs(&mut self, new: Inputs) {
         let t = self.time();
-        let old = self.rebased(t);
-        let same = old.omega1 == new.omega1
-            && old.omega1_der == new.omega1_der
-            && old.t_load == new.t_load
-            && old.t_load_der == new.t_load_der;
-        if !same {
-            // The right-hand side changes here: restart the stepper at the next doStep
-            // (fresh f, Jacobian marked stale), keeping h.
+        if !identical_function(&self.rebased(t), &new) {
             self.problem.model.set_inputs(new);
-            self.restart_pending = true;
         }
     }
 
@@ -585,7 +575,12 @@ impl Simulation {
             first_change_time: f64::NAN,
             ..StepReport::default()
         };
-        if self.restart_pending {
+        // The right-hand side changes at t if the input function changed: restart the
+        // stepper (fresh f, Jacobian marked stale, h kept). Re-setting the same values (or
+        // values that continue the same ramp) costs nothing.
+        let inputs_changed = !same_function(&rebase(&self.inputs_ref, t), &self.rebased(t));
+        self.inputs_ref = *self.problem.model.inputs();
+        if self.restart_pending || inputs_changed {
             let y = *self.solver.y();
             if let Err(e) = self.solver.restart(&mut self.problem, y, None) {
                 self.last_successful_time = t;
@@ -675,6 +670,7 @@ impl Simulation {
             settings: self.settings,
             init: self.init,
             inputs: *self.problem.model.inputs(),
+            inputs_ref: self.inputs_ref,
             der_set: self.der_set,
             restart_pending: self.restart_pending,
             contact_lost: self.contact_lost,
@@ -692,6 +688,7 @@ impl Simulation {
             self.problem.model = s.model.clone();
             self.solver.restore(&s.solver);
             self.der_set = s.der_set;
+            self.inputs_ref = s.inputs_ref;
             self.restart_pending = s.restart_pending;
             self.contact_lost = s.contact_lost;
             self.last_successful_time = s.last_successful_time;
@@ -724,11 +721,42 @@ impl Simulation {
             settings: s.settings,
             init: s.init,
             der_set: s.der_set,
+            inputs_ref: s.inputs_ref,
             restart_pending: s.restart_pending,
             contact_lost: s.contact_lost,
             last_successful_time: s.last_successful_time,
         })
     }
+}
+
+/// Inputs rebased to time t: value(t) = value + der (t - t_ref).
+fn rebase(i: &Inputs, t: f64) -> Inputs {
+    Inputs {
+        omega1: i.omega1 + i.omega1_der * (t - i.t_ref),
+        omega1_der: i.omega1_der,
+        t_load: i.t_load + i.t_load_der * (t - i.t_ref),
+        t_load_der: i.t_load_der,
+        t_ref: t,
+    }
+}
+
+/// Whether two input records (rebased to the same time) describe the same input function,
+/// up to round-off (1e-12 relative): a master that re-sends u(t_n) and u'(t_n) of a ramp
+/// computes the value in its own arithmetic, and a restart for an ulp is wasted work.
+fn same_function(a: &Inputs, b: &Inputs) -> bool {
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * x.abs().max(y.abs());
+    close(a.omega1, b.omega1)
+        && close(a.omega1_der, b.omega1_der)
+        && close(a.t_load, b.t_load)
+        && close(a.t_load_der, b.t_load_der)
+}
+
+/// Exact equality of the input function (decides whether the model's record is updated).
+fn identical_function(a: &Inputs, b: &Inputs) -> bool {
+    a.omega1 == b.omega1
+        && a.omega1_der == b.omega1_der
+        && a.t_load == b.t_load
+        && a.t_load_der == b.t_load_der
 }
 
 fn write_params(w: &mut Writer, p: &Params) {
@@ -846,6 +874,7 @@ impl SimState {
         w.f64(p.mu);
         w.f64(p.d_phi);
         write_inputs(w, &self.inputs);
+        write_inputs(w, &self.inputs_ref);
         w.bool(self.der_set[0]);
         w.bool(self.der_set[1]);
         w.bool(self.restart_pending);
@@ -871,6 +900,7 @@ impl SimState {
         let mu = r.finite("mu")?;
         let d_phi = r.finite("d_phi")?;
         let inputs = read_inputs(r)?;
+        let inputs_ref = read_inputs(r)?;
         let der_set = [r.bool("derivative flag")?, r.bool("derivative flag")?];
         let restart_pending = r.bool("restart flag")?;
         let contact_lost = r.bool("contact flag")?;
@@ -896,6 +926,7 @@ impl SimState {
             settings,
             init,
             inputs,
+            inputs_ref,
             der_set,
             restart_pending,
             contact_lost,
