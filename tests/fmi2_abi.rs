@@ -668,3 +668,52 @@ fn re_sent_inputs_restart_the_stepper_only_when_the_input_function_changes() {
     assert_eq!(restarts.len(), 2, "{restarts:?}");
     assert!(restarts[0].starts_with("doStep [0,"), "{restarts:?}");
 }
+
+#[test]
+fn non_zero_start_time_and_tolerance_from_setup_experiment() {
+    let f = Fmu::new("start", false);
+    let s = CString::new("logSolver").unwrap();
+    let sp = s.as_ptr();
+    assert_eq!(
+        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) },
+        Fmi2Status::OK
+    );
+    unsafe {
+        assert_eq!(
+            fmi2SetupExperiment(f.c, 1, 1e-7, 1.5, 1, 2.0),
+            Fmi2Status::OK
+        );
+        assert_eq!(fmi2EnterInitializationMode(f.c), Fmi2Status::OK);
+        assert_eq!(fmi2ExitInitializationMode(f.c), Fmi2Status::OK);
+    }
+    let m = f.messages();
+    assert!(
+        m.iter()
+            .any(|x| x.2.contains("rtol = 1e-7 (from fmi2SetupExperiment)")),
+        "{m:?}"
+    );
+    assert_eq!(f.step(0.0, H), Fmi2Status::Error);
+    // Reset restores the logging of fmi2Instantiate (off): enable logSolver again.
+    unsafe { fmi2Reset(f.c) };
+    assert_eq!(unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) }, Fmi2Status::OK);
+    unsafe {
+        assert_eq!(
+            fmi2SetupExperiment(f.c, 0, 0.0, 1.5, 0, 0.0),
+            Fmi2Status::OK
+        );
+        assert_eq!(fmi2EnterInitializationMode(f.c), Fmi2Status::OK);
+        assert_eq!(fmi2ExitInitializationMode(f.c), Fmi2Status::OK);
+    }
+    assert!(f
+        .messages()
+        .iter()
+        .any(|x| x.2.contains("rtol = 1e-6 (from the parameter rtol)")));
+    let a = run(&f, 1.5, 10);
+    // Same physics as from t = 0 (the model is autonomous for constant inputs).
+    let g = Fmu::new("zero", false);
+    g.init();
+    let b = run(&g, 0.0, 10);
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() <= 1e-9 * x.abs().max(1e-3), "{x} vs {y}");
+    }
+}

@@ -57,7 +57,7 @@ fn display(v: &Variable) -> String {
 /// line of action T1-T2 tangent to both base circles, the active part A-E, the pitch point
 /// C and the working pressure angle (model.md §2, §3.1).
 fn figure(g: &PairGeometry) -> String {
-    let s = 4000.0; // px per m (1 mm = 4 px)
+    let s = 3000.0; // px per m (1 mm = 3 px)
     let (w, h) = (560.0, 420.0);
     let (cx1, cy) = (w / 2.0 - g.a_w * s / 2.0, h / 2.0);
     let cx2 = cx1 + g.a_w * s;
@@ -140,7 +140,7 @@ fn figure(g: &PairGeometry) -> String {
     }
     let _ = writeln!(
         o,
-        r#"<text x="10" y="20">Default pair, transverse plane (1 mm = 4 px): base circles (solid), reference (dotted), tip (dashed)</text>"#
+        r#"<text x="10" y="20">Default pair, transverse plane (1 mm = 3 px): base circles (solid), reference (dotted), tip (dashed)</text>"#
     );
     let _ = writeln!(
         o,
