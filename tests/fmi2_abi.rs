@@ -695,7 +695,10 @@ fn non_zero_start_time_and_tolerance_from_setup_experiment() {
     assert_eq!(f.step(0.0, H), Fmi2Status::Error);
     // Reset restores the logging of fmi2Instantiate (off): enable logSolver again.
     unsafe { fmi2Reset(f.c) };
-    assert_eq!(unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) }, Fmi2Status::OK);
+    assert_eq!(
+        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) },
+        Fmi2Status::OK
+    );
     unsafe {
         assert_eq!(
             fmi2SetupExperiment(f.c, 0, 0.0, 1.5, 0, 0.0),
