@@ -64,7 +64,8 @@ impl Phase {
     }
 }
 
-/// Allowed-state sets (bit masks of [`Phase::bit`]).
+/// Allowed-state sets (bit masks of the phases: Instantiated = 1, InitializationMode = 2,
+/// StepComplete = 4, StepFailed = 8, Terminated = 16, Error = 32).
 pub mod allowed {
     const INST: u8 = 1;
     const INIT: u8 = 2;

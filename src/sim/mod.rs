@@ -91,7 +91,7 @@ pub fn comm_tolerance(t: f64, h: f64) -> f64 {
 pub struct SolverSettings {
     /// Relative tolerance (from fmi2SetupExperiment if defined, else the `rtol` parameter).
     pub rtol: f64,
-    /// Maximum internal step size [s].
+    /// Maximum internal step size in s.
     pub h_max: f64,
 }
 
