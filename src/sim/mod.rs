@@ -70,6 +70,14 @@ const fn scales() -> [f64; NY] {
 /// absolute one for |phi1| < 250 rad (0.8 s at the default speed) and grows slowly after.
 pub const PHI1_RTOL_FACTOR: f64 = 1e-3;
 
+/// Stop RADAU5 steps at predicted mesh events (see `Simulation::next_mesh_event`).
+const MESH_EVENT_STOPS: bool = true;
+
+/// Mesh-event stops only above this friction coefficient. Measured CPU per 10 ms (default
+/// case, one doStep) without / with stops: mu = 0.001: 1.6 / 2.3 ms; 0.003: 2.3 / 2.5;
+/// 0.01: 3.5 / 3.1; 0.02: 4.3 / 3.4; 0.05: 5.5 / 3.5; 0.1: 6.4 / 4.2.
+const MESH_EVENT_MIN_MU: f64 = 0.005;
+
 /// Most internal steps one communication interval may take before the stepper gives up
 /// (radau5 `max_steps` counts since the last stop time): 1e6 steps of the default
 /// h_max = 1e-4 s cover 100 s of simulated time in one doStep.
@@ -591,8 +599,20 @@ impl Simulation {
         }
         // A derivative set at this point applies until the master sets a new one or a value.
         self.der_set = [false; 2];
+        // Mesh-event stops pay only when the communication interval is longer than the mean
+        // spacing of the events (6 per base pitch): shorter intervals already end the steps
+        // near the kinks, and extra stops would only force new LU decompositions (measured at
+        // H = 1e-5 s: 5.5 ms per 10 ms without, 8-11 ms with).
+        let rate = self.problem.model.geometry().rb1 * self.solver.y()[idx::OMEGA1];
+        let spacing = self.problem.model.geometry().p_bt / (6.0 * rate);
+        let use_events = MESH_EVENT_STOPS && rate > 0.0 && t_end - t > spacing;
         loop {
-            match self.solver.step(&mut self.problem, t_end) {
+            let target = if use_events {
+                self.next_mesh_event(t_end)
+            } else {
+                t_end
+            };
+            match self.solver.step(&mut self.problem, target) {
                 Ok(tn) => {
                     let lost = self.solver.y()[idx::LAMBDA] < 0.0;
                     if lost != self.contact_lost {
@@ -619,6 +639,55 @@ impl Simulation {
         report.stats = sub_stats(self.solver.stats(), &stats0);
         report.contact_lost = self.contact_lost;
         Ok(report)
+    }
+
+    /// Time of the next mesh event before `t_end` (else `t_end`): an end of a contact line
+    /// crossing sigma_A, sigma_C or sigma_E (model.md §3.4, §4). There f has a kink (the
+    /// contact length or the sliding direction on a segment changes its law), and a RADAU5
+    /// step straddling it is rejected or needs new Jacobians; a step that ends on it is not.
+    /// The mesh phase s advances at r_b1 omega1 (the theta, alpha rates of the centre motion
+    /// are ~1e-5 of that); predicted from the current state after every step, so the error
+    /// does not accumulate. Events closer than 1e-6 of a base-pitch passage are skipped.
+    /// Measured (default case, rtol 1e-6, 10 ms in one doStep): 291 accepted + 120 rejected
+    /// steps, 87 Jacobians, 5.5 ms CPU without; 273 + 16, 30 Jacobians, 3.7 ms with.
+    fn next_mesh_event(&self, t_end: f64) -> f64 {
+        let t = self.solver.t();
+        let y = self.solver.y();
+        let model = &self.problem.model;
+        let g = model.geometry();
+        let rate = g.rb1 * y[idx::OMEGA1];
+        let m = match model.mesh(t, y) {
+            Ok(m) => m,
+            Err(_) => return t_end,
+        };
+        // Without friction f has no kinks there (the normal force does not depend on the
+        // contact lines); with little friction the kinks are mild and the stops cost more
+        // steps than they save (see MESH_EVENT_MIN_MU).
+        if !(rate > 0.0) || !(m.z_hi > m.z_lo) || model.params().mu <= MESH_EVENT_MIN_MU {
+            return t_end;
+        }
+        let p = g.p_bt;
+        let s_ph = g.mesh_phase(&m, y[idx::PHI1], model.params().psi0);
+        let u1z = m.c1.z;
+        let w = [(m.z_lo - u1z) * g.tan_beta_b, (m.z_hi - u1z) * g.tan_beta_b];
+        let sigma_c = g.rb1 * m.alpha.tan();
+        let eps = 1e-6 * p;
+        let mut best = f64::INFINITY;
+        for sig in [m.sigma_a, sigma_c, m.sigma_e] {
+            for wk in w {
+                let mut gap = (sig + wk - s_ph).rem_euclid(p);
+                if gap < eps {
+                    gap += p;
+                }
+                best = best.min(gap);
+            }
+        }
+        let te = t + best / rate;
+        if te < t_end {
+            te
+        } else {
+            t_end
+        }
     }
 
     /// All outputs at the current time (model.md §6).
