@@ -200,15 +200,18 @@ pub enum FmuError {
 }
 
 impl FmuError {
-    /// THE mapping of errors to FMI statuses: solver failures are fmi2Discard (the state is
-    /// that of the last successful time, the master may retry with a smaller step or roll
-    /// back), panics and calls after them fmi2Fatal, everything else fmi2Error.
+    /// THE mapping of errors to FMI statuses: solver failures in fmi2DoStep are fmi2Discard
+    /// (the state is that of the last successful time, the master may roll back and retry
+    /// with a smaller step), panics and calls after them fmi2Fatal, everything else
+    /// fmi2Error.
     pub fn status(&self) -> Fmi2Status {
         use crate::radau5::Error as R;
         match self {
+            // Only fmi2DoStep may return fmi2Discard; a solver failure while setting up the
+            // initial state (fmi2ExitInitializationMode) is an error.
             FmuError::Sim {
+                func: "fmi2DoStep",
                 error: SimError::Solver { error, .. },
-                ..
             } => match error {
                 R::InvalidOption { .. } | R::StopTimeBehind { .. } => Fmi2Status::Error,
                 _ => Fmi2Status::Discard,
