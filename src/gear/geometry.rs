@@ -261,15 +261,13 @@ impl PairGeometry {
             let v = inv(alpha_t) + 2.0 * d.alpha_n.tan() * (d.x1 + d.x2) / (z1 + z2);
             match inv_inverse(v) {
                 Some(awt) => (awt, r_sum / awt.cos()),
-                None => {
-                    return Err(err(
-                        "x1+x2",
-                        d.x1 + d.x2,
-                        format!(
+                None => return Err(err(
+                    "x1+x2",
+                    d.x1 + d.x2,
+                    format!(
                         "inv alpha_wt = inv alpha_t + 2 tan alpha_n (x1 + x2)/(z1 + z2) = {v} > 0"
                     ),
-                    ))
-                }
+                )),
             }
         } else {
             if !(d.a_w > r_sum) {

@@ -12,7 +12,6 @@
 //! (DECSOL-style LU), `stepper` (RADCOR as a state machine, dense output), `state`
 //! (everything kept between steps), `snapshot` (copy and bytes), `stats`, `error`.
 
-mod error;
 pub mod linalg;
 pub mod options;
 mod problem;
@@ -21,6 +20,7 @@ mod state;
 mod stats;
 mod stepper;
 pub mod tableau;
+mod error;
 #[doc(hidden)]
 pub mod test_problems;
 

@@ -153,13 +153,10 @@ struct Reader<'a> {
 impl Reader<'_> {
     fn take<const K: usize>(&mut self) -> Result<[u8; K], SnapshotError> {
         let end = self.pos + K;
-        let s = self
-            .buf
-            .get(self.pos..end)
-            .ok_or(SnapshotError::Truncated {
-                needed: end,
-                found: self.buf.len(),
-            })?;
+        let s = self.buf.get(self.pos..end).ok_or(SnapshotError::Truncated {
+            needed: end,
+            found: self.buf.len(),
+        })?;
         let mut out = [0u8; K];
         out.copy_from_slice(s);
         self.pos = end;

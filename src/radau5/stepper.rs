@@ -172,11 +172,7 @@ impl<const N: usize> Radau5<N> {
     ///
     /// # Errors
     /// See [`Radau5::step`].
-    pub fn integrate_to<P: Problem<N>>(
-        &mut self,
-        problem: &mut P,
-        t_stop: f64,
-    ) -> Result<(), Error> {
+    pub fn integrate_to<P: Problem<N>>(&mut self, problem: &mut P, t_stop: f64) -> Result<(), Error> {
         if t_stop.is_nan() || t_stop < self.st.t {
             return Err(Error::StopTimeBehind {
                 t: self.st.t,
@@ -641,8 +637,7 @@ impl<const N: usize> Radau5<N> {
                             // Predicted non-convergence: restart with a smaller h (not a
                             // rejection).
                             let qnewt = 1.0e-4f64.max(20.0f64.min(dyth));
-                            s.hhfac = 0.8
-                                * qnewt.powf(-1.0 / (4.0 + f64::from(nit) - 1.0 - f64::from(newt)));
+                            s.hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + f64::from(nit) - 1.0 - f64::from(newt)));
                             break 'newton Err(None);
                         }
                     } else {

@@ -159,12 +159,7 @@ mod tests {
         for i in 0..3 {
             for j in 0..3 {
                 let d = (m[i][j] - want[i][j]).abs();
-                assert!(
-                    d <= 1e-14 * 4.0,
-                    "entry ({i},{j}): {} vs {}",
-                    m[i][j],
-                    want[i][j]
-                );
+                assert!(d <= 1e-14 * 4.0, "entry ({i},{j}): {} vs {}", m[i][j], want[i][j]);
             }
         }
         // Published values (radau5.md §1).
