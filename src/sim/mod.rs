@@ -663,7 +663,8 @@ impl Simulation {
         // Without friction f has no kinks there (the normal force does not depend on the
         // contact lines); with little friction the kinks are mild and the stops cost more
         // steps than they save (see MESH_EVENT_MIN_MU).
-        if !(rate > 0.0) || !(m.z_hi > m.z_lo) || model.params().mu <= MESH_EVENT_MIN_MU {
+        let usable = rate > 0.0 && m.z_hi > m.z_lo && model.params().mu > MESH_EVENT_MIN_MU;
+        if !usable {
             return t_end;
         }
         let p = g.p_bt;
