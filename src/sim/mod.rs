@@ -691,9 +691,32 @@ impl Simulation {
         }
     }
 
-    /// All outputs at the current time (model.md §6).
+    /// All outputs at the current time (model.md §6), with lambda from the hidden
+    /// constraint (see [`Simulation::output_state`]).
     pub fn outputs(&self) -> Outputs {
-        self.problem.model.outputs(self.time(), self.solver.y())
+        let t = self.time();
+        let y = self.output_state(t, self.solver.y());
+        self.problem.model.outputs(t, &y)
+    }
+
+    /// The state for the outputs: y with lambda replaced by the value the hidden constraint
+    /// gives for the differential states (model.md §7, `GearedRotor::consistent_lambda`).
+    ///
+    /// Why: lambda is an index-2 variable; RADAU5 controls its error only scaled by h, and
+    /// the step that lands on a communication point is clipped and may be very short, so the
+    /// lambda of the stepper there can be off by ~1e-3 relative (seen at the frictionless
+    /// static equilibrium with 10 ms communication steps: spikes of +-8.5e-4 while the
+    /// consistent value is within 1e-8). The consistent value depends only on q, v and the
+    /// filter state, which are accurate to the tolerance. Falls back to the stepper's
+    /// lambda where the model cannot decide (friction-induced ambiguity).
+    pub fn output_state(&self, t: f64, y: &SVector<f64, NY>) -> SVector<f64, NY> {
+        let mut z = *y;
+        if let Ok(l) = self.problem.model.consistent_lambda(t, y) {
+            if l.is_finite() {
+                z[idx::LAMBDA] = l;
+            }
+        }
+        z
     }
 
     /// Outputs at `time() - delta` and `time() + delta` on the collocation polynomial of the
@@ -727,6 +750,8 @@ impl Simulation {
             ym = y - ydot * delta;
             yp = y + ydot * delta;
         }
+        let ym = self.output_state(t - delta, &ym);
+        let yp = self.output_state(t + delta, &yp);
         let om = self.problem.model.outputs(t - delta, &ym);
         let op = self.problem.model.outputs(t + delta, &yp);
         (om, op, delta)
