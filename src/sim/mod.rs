@@ -614,7 +614,12 @@ impl Simulation {
             };
             match self.solver.step(&mut self.problem, target) {
                 Ok(tn) => {
-                    let lost = self.solver.y()[idx::LAMBDA] < 0.0;
+                    // Cheap test on the stepper's lambda; a change of sign is confirmed with
+                    // the consistent lambda (see `output_state`), as the outputs report it.
+                    let mut lost = self.solver.y()[idx::LAMBDA] < 0.0;
+                    if lost != self.contact_lost {
+                        lost = self.output_state(tn, self.solver.y())[idx::LAMBDA] < 0.0;
+                    }
                     if lost != self.contact_lost {
                         if report.contact_changes == 0 {
                             report.first_change_time = tn;
