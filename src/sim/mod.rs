@@ -689,7 +689,8 @@ impl Simulation {
             }
         }
         let te = t + best / rate;
-        if te < t_end {
+        // An event just before t_end would leave a sliver of a step: end at t_end then.
+        if te < t_end - eps / rate {
             te
         } else {
             t_end
