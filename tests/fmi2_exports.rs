@@ -64,6 +64,20 @@ fn the_cdylib_exports_every_fmi2_function() {
         .parent()
         .unwrap()
         .join("libgeared_rotor.so");
+    // `cargo test` builds the library as rlib for the tests; the cdylib of the same
+    // profile may be missing on a clean checkout, so build it (cargo sets CARGO for tests).
+    let target_dir = so.parent().unwrap().parent().unwrap();
+    let release = so.parent().unwrap().file_name().unwrap() == "release";
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = std::process::Command::new(cargo);
+    cmd.args(["build", "--lib", "--manifest-path"])
+        .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"))
+        .env("CARGO_TARGET_DIR", target_dir);
+    if release {
+        cmd.arg("--release");
+    }
+    let status = cmd.status().expect("run cargo build --lib");
+    assert!(status.success(), "cargo build --lib failed");
     assert!(so.exists(), "{} not built", so.display());
     let path = CString::new(so.to_str().unwrap()).unwrap();
     unsafe {
