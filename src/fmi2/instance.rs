@@ -550,7 +550,9 @@ impl Instance {
             self.categories = [on; 4];
             return Ok(());
         }
-        let mut new = self.categories;
+        // FMI 2.0 (2.1.5): loggingOn with categories logs only those categories;
+        // loggingOn = false switches the listed ones off and leaves the others.
+        let mut new = if on { [false; 4] } else { self.categories };
         for c in cats {
             match *c {
                 "logAll" => new = [on; 4],
