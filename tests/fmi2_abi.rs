@@ -2,8 +2,10 @@
 //! NULL pointers, value references, a caught panic, FMU state round trips, instance cycles,
 //! logging, time bookkeeping and output derivatives.
 
+mod common;
 mod fmi2_common;
 
+use common::fmi2::log_category;
 use fmi2_common::Fmu;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{by_name, Causality, VarType, GUID, VARIABLES};
@@ -15,6 +17,25 @@ const H: f64 = 1e-5;
 
 fn vr(name: &str) -> u32 {
     by_name(name).unwrap().vr
+}
+
+/// fmi2SetupExperiment with these arguments, then Enter/ExitInitializationMode, all OK.
+fn initialize(
+    f: &Fmu,
+    tolerance_defined: Fmi2Boolean,
+    tolerance: f64,
+    start: f64,
+    stop_defined: Fmi2Boolean,
+    stop: f64,
+) {
+    unsafe {
+        assert_eq!(
+            fmi2SetupExperiment(f.c, tolerance_defined, tolerance, start, stop_defined, stop),
+            Fmi2Status::OK
+        );
+        assert_eq!(fmi2EnterInitializationMode(f.c), Fmi2Status::OK);
+        assert_eq!(fmi2ExitInitializationMode(f.c), Fmi2Status::OK);
+    }
 }
 
 #[test]
@@ -237,12 +258,7 @@ fn invalid_parameters_are_rejected_in_exit_initialization_naming_the_bound() {
 #[test]
 fn unknown_log_category_is_an_error_and_messages_escape_percent() {
     let f = Fmu::new("cats", false);
-    let cat = CString::new("logNothing%n").unwrap();
-    let p = cat.as_ptr();
-    assert_eq!(
-        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &p) },
-        Fmi2Status::Error
-    );
+    assert_eq!(log_category(f.c, "logNothing%n"), Fmi2Status::Error);
     let m = f.last_message();
     assert!(
         m.contains("unknown log category") && m.contains("%%n"),
@@ -255,12 +271,7 @@ fn unknown_log_category_is_an_error_and_messages_escape_percent() {
     g.init();
     assert_eq!(g.step(0.0, H), Fmi2Status::OK);
     assert!(g.messages().iter().all(|m| m.1 != "logSolver"));
-    let s = CString::new("logSolver").unwrap();
-    let sp = s.as_ptr();
-    assert_eq!(
-        unsafe { fmi2SetDebugLogging(g.c, 1, 1, &sp) },
-        Fmi2Status::OK
-    );
+    assert_eq!(log_category(g.c, "logSolver"), Fmi2Status::OK);
     assert_eq!(g.step(H, H), Fmi2Status::OK);
     let msgs = g.messages();
     let solver: Vec<_> = msgs.iter().filter(|m| m.1 == "logSolver").collect();
@@ -635,12 +646,7 @@ fn re_sent_inputs_restart_the_stepper_only_when_the_input_function_changes() {
     // FMPy-style: at every communication point the master sets the value of a ramp and its
     // derivative. Only the first point (ramp starts) and the kink at 5 ms may restart.
     let f = Fmu::new("ramp", false);
-    let s = CString::new("logSolver").unwrap();
-    let sp = s.as_ptr();
-    assert_eq!(
-        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) },
-        Fmi2Status::OK
-    );
+    assert_eq!(log_category(f.c, "logSolver"), Fmi2Status::OK);
     f.init();
     let w = vr("omega1");
     let one = 1;
@@ -672,20 +678,8 @@ fn re_sent_inputs_restart_the_stepper_only_when_the_input_function_changes() {
 #[test]
 fn non_zero_start_time_and_tolerance_from_setup_experiment() {
     let f = Fmu::new("start", false);
-    let s = CString::new("logSolver").unwrap();
-    let sp = s.as_ptr();
-    assert_eq!(
-        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) },
-        Fmi2Status::OK
-    );
-    unsafe {
-        assert_eq!(
-            fmi2SetupExperiment(f.c, 1, 1e-7, 1.5, 1, 2.0),
-            Fmi2Status::OK
-        );
-        assert_eq!(fmi2EnterInitializationMode(f.c), Fmi2Status::OK);
-        assert_eq!(fmi2ExitInitializationMode(f.c), Fmi2Status::OK);
-    }
+    assert_eq!(log_category(f.c, "logSolver"), Fmi2Status::OK);
+    initialize(&f, 1, 1e-7, 1.5, 1, 2.0);
     let m = f.messages();
     assert!(
         m.iter()
@@ -695,18 +689,8 @@ fn non_zero_start_time_and_tolerance_from_setup_experiment() {
     assert_eq!(f.step(0.0, H), Fmi2Status::Error);
     // Reset restores the logging of fmi2Instantiate (off): enable logSolver again.
     unsafe { fmi2Reset(f.c) };
-    assert_eq!(
-        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &sp) },
-        Fmi2Status::OK
-    );
-    unsafe {
-        assert_eq!(
-            fmi2SetupExperiment(f.c, 0, 0.0, 1.5, 0, 0.0),
-            Fmi2Status::OK
-        );
-        assert_eq!(fmi2EnterInitializationMode(f.c), Fmi2Status::OK);
-        assert_eq!(fmi2ExitInitializationMode(f.c), Fmi2Status::OK);
-    }
+    assert_eq!(log_category(f.c, "logSolver"), Fmi2Status::OK);
+    initialize(&f, 0, 0.0, 1.5, 0, 0.0);
     assert!(f
         .messages()
         .iter()

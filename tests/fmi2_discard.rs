@@ -3,6 +3,9 @@
 
 mod fmi2_common;
 
+mod common;
+
+use common::fmi2::log_category;
 use fmi2_common::Fmu;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::by_name;
@@ -44,12 +47,7 @@ fn solver_failure_is_a_discard_at_the_last_successful_time_and_can_be_rolled_bac
 #[test]
 fn tooth_lift_off_is_logged_under_log_events() {
     let f = Fmu::new("liftoff", false);
-    let cat = std::ffi::CString::new("logEvents").unwrap();
-    let p = cat.as_ptr();
-    assert_eq!(
-        unsafe { fmi2SetDebugLogging(f.c, 1, 1, &p) },
-        Fmi2Status::OK
-    );
+    assert_eq!(log_category(f.c, "logEvents"), Fmi2Status::OK);
     f.init();
     assert_eq!(f.step(0.0, 1e-4), Fmi2Status::OK);
     // A negative load larger than the damper torque drives gear 2: lambda < 0.

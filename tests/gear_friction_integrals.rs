@@ -2,62 +2,11 @@
 //! adaptive Gauss-Legendre quadrature (nodes computed here by Newton's method on P_n),
 //! split at x = 0, over >= 10 000 random segments in every regime.
 
+mod common;
+
+use common::quad::gauss_legendre;
+use common::rng::Rng;
 use geared_rotor::gear::line_integrals;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.next() - 1.0)
-    }
-    fn log(&mut self, lo: f64, hi: f64) -> f64 {
-        10f64.powf(lo + (hi - lo) * self.next())
-    }
-    fn sign(&mut self) -> f64 {
-        if self.next() < 0.5 {
-            -1.0
-        } else {
-            1.0
-        }
-    }
-}
-
-/// Gauss-Legendre nodes/weights of order n on [-1, 1]: Newton on the three-term recurrence.
-fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut x = vec![0.0; n];
-    let mut w = vec![0.0; n];
-    for i in 0..n {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let legendre = |z: f64| {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            (p1, n as f64 * (z * p1 - p0) / (z * z - 1.0))
-        };
-        for _ in 0..100 {
-            let (p, dp) = legendre(z);
-            let dz = p / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                break;
-            }
-        }
-        let (_, dp) = legendre(z);
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-    (x, w)
-}
 
 struct Quad {
     x: Vec<f64>,

@@ -3,37 +3,13 @@
 //! mesh period (piecewise between the kinks, adaptive Gauss-Legendre per piece) equals
 //! H_V; the mean contact length is `eps_alpha b / cos(beta_b)`, constant for integer eps_beta.
 
+mod common;
+
+use common::gear::spur_17_60;
+use common::quad::gauss_legendre;
 use geared_rotor::gear::{FrictionLaw, GearData, Kinematics, PairGeometry};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
-
-/// 20-point Gauss-Legendre nodes/weights by Newton on the Legendre recurrence.
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (0..n)
-        .map(|i| {
-            let leg = |z: f64| {
-                let (mut p0, mut p1) = (1.0, z);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                (p1, n as f64 * (z * p1 - p0) / (z * z - 1.0))
-            };
-            let mut z = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            for _ in 0..100 {
-                let (p, dp) = leg(z);
-                let dz = p / dp;
-                z -= dz;
-                if dz.abs() < 1e-16 {
-                    break;
-                }
-            }
-            let (_, dp) = leg(z);
-            (z, 2.0 / ((1.0 - z * z) * dp * dp))
-        })
-        .collect()
-}
 
 fn rule(gl: &[(f64, f64)], f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {
     let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
@@ -74,7 +50,8 @@ fn period_mean(g: &PairGeometry, f: &dyn Fn(f64) -> f64) -> f64 {
     }
     cuts.sort_by(|a, b| a.total_cmp(b));
     cuts.dedup();
-    let gl = gauss_legendre(20);
+    let (nodes, weights) = gauss_legendre(20);
+    let gl: Vec<(f64, f64)> = nodes.into_iter().zip(weights).collect();
     let mut total = 0.0;
     for w in cuts.windows(2) {
         if w[1] - w[0] <= 0.0 {
@@ -170,14 +147,7 @@ fn kinematic_loss_factor_matches_h_v() {
         true,
     );
     check("default as spur", GearData { beta: 0.0, ..d0 }, false);
-    let d = GearData {
-        z1: 17,
-        z2: 60,
-        beta: 0.0,
-        x1: 0.5,
-        x2: -0.5,
-        ..d0
-    };
+    let d = spur_17_60();
     let (_, _, _) = check("spur 17/60, x = +-0.5", d, false);
     // model.md: plain Ohlendorf is off by 0.35 % for this pair (pitch point outside the
     // single-contact zone): make sure the case really exercises that branch.

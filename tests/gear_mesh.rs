@@ -2,61 +2,12 @@
 //! same at every point of the plane of action and equals G q' - r_b1 cos(beta_b) omega1
 //! (model.md §3.3, §9.2).
 
-use geared_rotor::gear::{GearData, Kinematics, PairGeometry};
+mod common;
+
+use common::gear::gear_sets;
+use common::rng::Rng;
+use geared_rotor::gear::{Kinematics, PairGeometry};
 use nalgebra::Vector3;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.next() - 1.0)
-    }
-}
-
-fn gear_sets() -> Vec<GearData> {
-    let d0 = GearData::default();
-    let deg = |x: f64| x.to_radians();
-    vec![
-        d0,
-        GearData {
-            beta: deg(-20.0),
-            ..d0
-        },
-        GearData { beta: 0.0, ..d0 },
-        GearData {
-            z1: 17,
-            z2: 60,
-            beta: 0.0,
-            x1: 0.5,
-            x2: -0.5,
-            ..d0
-        },
-        GearData {
-            z1: 19,
-            z2: 53,
-            m_n: 3e-3,
-            beta: deg(30.0),
-            x1: 0.3,
-            x2: 0.1,
-            b: 30e-3,
-            ..d0
-        },
-        GearData {
-            z1: 23,
-            z2: 31,
-            beta: deg(-12.0),
-            a_w: 56.0e-3,
-            ..d0
-        },
-    ]
-}
 
 #[test]
 fn constraint_row_is_cos_beta_b_times_gradient_of_gap() {

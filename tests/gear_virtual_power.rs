@@ -2,57 +2,19 @@
 //! `Q_f^T q' + M1_z omega1 = -P_loss`, at random displaced states, velocities, phases and
 //! both signs of lambda, for several gear sets.
 
-use geared_rotor::gear::{FrictionLaw, GearData, Kinematics, PairGeometry};
-use nalgebra::Vector3;
+mod common;
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.next() - 1.0)
-    }
-}
+use common::gear::gear_sets;
+use common::rng::Rng;
+use geared_rotor::gear::{FrictionLaw, Kinematics, PairGeometry};
+use nalgebra::Vector3;
 
 #[test]
 fn friction_virtual_power_equals_minus_loss() {
-    let d0 = GearData::default();
-    let sets = [
-        d0,
-        GearData {
-            beta: (-20f64).to_radians(),
-            ..d0
-        },
-        GearData { beta: 0.0, ..d0 },
-        GearData {
-            z1: 17,
-            z2: 60,
-            beta: 0.0,
-            x1: 0.5,
-            x2: -0.5,
-            ..d0
-        },
-        GearData {
-            z1: 19,
-            z2: 53,
-            m_n: 3e-3,
-            beta: 30f64.to_radians(),
-            x1: 0.3,
-            x2: 0.1,
-            b: 30e-3,
-            ..d0
-        },
-    ];
     let mut rng = Rng(4);
     let mut worst: f64 = 0.0;
     let mut n = 0;
-    for d in sets {
+    for d in gear_sets() {
         let g = PairGeometry::new(&d).unwrap();
         for i in 0..2000 {
             let u1 = Vector3::new(rng.sym(5e-5), rng.sym(5e-5), rng.sym(5e-5));

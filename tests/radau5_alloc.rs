@@ -2,50 +2,16 @@
 //! step"): a counting global allocator around stepping, stop times, dense output,
 //! snapshot/restore and restart.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
+mod common;
 
-use geared_rotor::radau5::test_problems::{Amplifier1t, Pendulum2, VanDerPol};
-use geared_rotor::radau5::{Options, Radau5, Tolerance};
+use common::alloc::allocations;
+use common::radau5::{opts, pendulum2, pendulum2_opts};
+use geared_rotor::radau5::test_problems::{Amplifier1t, VanDerPol};
+use geared_rotor::radau5::Radau5;
 use nalgebra::SVector;
 
-struct Counting;
-
-thread_local! {
-    static ALLOCS: Cell<u64> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.with(|c| c.set(c.get() + 1));
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCS.with(|c| c.set(c.get() + 1));
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> u64 {
-    ALLOCS.with(Cell::get)
-}
-
-fn o<const N: usize>(tol: f64) -> Options<N> {
-    Options {
-        rtol: Tolerance::Scalar(tol),
-        atol: Tolerance::Scalar(tol),
-        ..Options::default()
-    }
-}
+static GLOBAL: common::alloc::Counting = common::alloc::Counting;
 
 #[test]
 fn stepping_allocates_nothing() {
@@ -55,7 +21,7 @@ fn stepping_allocates_nothing() {
     assert!(allocations() > c0 && v.len() == 16);
     // ODE, identity mass
     let mut p = VanDerPol { eps: 1e-6 };
-    let mut s = Radau5::new(&mut p, o(1e-6), 0.0, SVector::<f64, 2>::new(2.0, 0.0)).unwrap();
+    let mut s = Radau5::new(&mut p, opts(1e-6), 0.0, SVector::<f64, 2>::new(2.0, 0.0)).unwrap();
     let snap = s.snapshot();
     let before = allocations();
     let mut u = SVector::zeros();
@@ -78,7 +44,7 @@ fn stepping_allocates_nothing() {
     // index-1 DAE with a full mass matrix
     let mut p = Amplifier1t;
     let y0 = SVector::<f64, 5>::new(0.0, 3.0, 3.0, 6.0, 0.0);
-    let mut s = Radau5::new(&mut p, o(1e-6), 0.0, y0).unwrap();
+    let mut s = Radau5::new(&mut p, opts(1e-6), 0.0, y0).unwrap();
     let before = allocations();
     s.integrate_to(&mut p, 0.05).unwrap();
     assert_eq!(
@@ -88,20 +54,8 @@ fn stepping_allocates_nothing() {
     );
 
     // index-2 DAE
-    let g = 9.81;
-    let mut p = Pendulum2 { g };
-    let y0 = SVector::<f64, 5>::new(1.0f64.sin(), -(1.0f64.cos()), 0.0, 0.0, g * 1.0f64.cos());
-    let mut s = Radau5::new(
-        &mut p,
-        Options {
-            n1: 4,
-            n2: 1,
-            ..o(1e-6)
-        },
-        0.0,
-        y0,
-    )
-    .unwrap();
+    let (mut p, y0) = pendulum2();
+    let mut s = Radau5::new(&mut p, pendulum2_opts(1e-6), 0.0, y0).unwrap();
     let before = allocations();
     s.integrate_to(&mut p, 3.0).unwrap();
     assert_eq!(

@@ -1,7 +1,10 @@
 //! Step-based API of the RADAU5 stepper (issue 3, tests 1, 3, 4, 5): dense output,
 //! snapshots, stop times without restart, typed errors.
 
-use geared_rotor::radau5::test_problems::{Pendulum2, Robertson, VanDerPol};
+mod common;
+
+use common::radau5::{opts, pendulum2, pendulum2_opts};
+use geared_rotor::radau5::test_problems::{Robertson, VanDerPol};
 use geared_rotor::radau5::{
     Error, Options, Problem, Radau5, RhsError, Snapshot, SnapshotError, Tolerance,
 };
@@ -30,14 +33,6 @@ impl Problem<2> for Harmonic {
     ) -> Result<bool, RhsError> {
         *j = SMatrix::<f64, 2, 2>::new(0.0, 1.0, -1.0, 0.0);
         Ok(true)
-    }
-}
-
-fn opts<const N: usize>(tol: f64) -> Options<N> {
-    Options {
-        rtol: Tolerance::Scalar(tol),
-        atol: Tolerance::Scalar(tol),
-        ..Options::default()
     }
 }
 
@@ -229,14 +224,8 @@ fn stop_times_do_not_restart_the_method() {
 /// doStep of 1e-5 s): about one internal step per call, LU pair reused.
 #[test]
 fn tiny_stop_intervals_cost_about_one_step_each() {
-    let g = 9.81;
-    let y0 = SVector::<f64, 5>::new(1.0f64.sin(), -(1.0f64.cos()), 0.0, 0.0, g * 1.0f64.cos());
-    let o = Options {
-        n1: 4,
-        n2: 1,
-        ..opts(1e-6)
-    };
-    let mut p = Pendulum2 { g };
+    let (mut p, y0) = pendulum2();
+    let o = pendulum2_opts(1e-6);
     let mut s = Radau5::new(&mut p, o, 0.0, y0).unwrap();
     s.integrate_to(&mut p, 0.5).unwrap();
     let before = *s.stats();
@@ -470,14 +459,8 @@ fn newton_failure_is_typed() {
 /// the original: nothing of the state is missing from the snapshot.
 #[test]
 fn snapshot_is_complete_at_every_step() {
-    let g = 9.81;
-    let y0 = SVector::<f64, 5>::new(1.0f64.sin(), -(1.0f64.cos()), 0.0, 0.0, g * 1.0f64.cos());
-    let o = Options {
-        n1: 4,
-        n2: 1,
-        ..opts(1e-5)
-    };
-    let mut p = Pendulum2 { g };
+    let (mut p, y0) = pendulum2();
+    let o = pendulum2_opts(1e-5);
     let mut s = Radau5::new(&mut p, o, 0.0, y0).unwrap();
     let mut snaps = Vec::new();
     let mut traj = Vec::new();

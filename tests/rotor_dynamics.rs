@@ -4,7 +4,10 @@
 //! static equilibrium), §9.6 (energy balance from the accumulator states), §9.7 (dynamic mean
 //! loss vs H_V: at the defaults about 0.7 % below) and §9.9 (mean omega2 = omega1 z1/z2).
 
-use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
+mod common;
+
+use common::rotor::{driven, masses};
+use geared_rotor::rotor::{idx, GearedRotor, Outputs, Params, NY};
 use nalgebra::SVector;
 
 fn deriv(
@@ -40,24 +43,14 @@ fn rk4(
     yn
 }
 
-fn masses(p: &Params) -> [f64; 7] {
-    [
-        p.rotor1.m, p.rotor1.m, p.rotor1.m, p.rotor2.m, p.rotor2.m, p.rotor2.m, p.rotor2.j,
-    ]
-}
-
 #[test]
 fn frictionless_run_settles_at_static_equilibrium_and_balances_energy() {
     let p = Params {
         mu: 0.0,
         ..Params::default()
     };
-    let mut model = GearedRotor::new(p).unwrap();
     let omega1 = 314.159;
-    model.set_inputs(Inputs {
-        omega1,
-        ..Inputs::default()
-    });
+    let mut model = driven(p, omega1);
     let mut y = model.initialize(0.0).unwrap(); // from rest position: transient
     let ms = masses(&p);
     let y0 = y;
@@ -93,42 +86,73 @@ fn frictionless_run_settles_at_static_equilibrium_and_balances_energy() {
     assert!(o.gap.abs() < 1e-9);
 }
 
+/// The runs of model.md §9.7: from the static equilibrium at omega1 = 314.159, RK4 with 100
+/// steps per mesh period; 60 mesh periods to settle, then 20 whole mesh periods to average
+/// over.
+struct MeanRun {
+    model: GearedRotor,
+    /// Outputs at t = 0 (before the run).
+    e0: Outputs,
+    /// States after settling and at the end (time t).
+    y_a: SVector<f64, NY>,
+    y: SVector<f64, NY>,
+    t: f64,
+}
+
+impl MeanRun {
+    fn new(p: Params) -> MeanRun {
+        let omega1 = 314.159;
+        let mut model = driven(p, omega1);
+        let (ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
+        let y0 = model.initialize_with(0.0, &ic).unwrap();
+        let ms = masses(&p);
+        let e0 = model.outputs(0.0, &y0);
+        let tm = 2.0 * std::f64::consts::PI / (27.0 * omega1);
+        let n = 100;
+        let h = tm / n as f64;
+        let mut t = 0.0;
+        let mut y = y0;
+        // settle for 60 mesh periods
+        for _ in 0..60 * n {
+            y = rk4(&mut model, &ms, t, &y, h);
+            t += h;
+        }
+        let y_a = y;
+        let periods = 20;
+        for _ in 0..periods * n {
+            y = rk4(&mut model, &ms, t, &y, h);
+            t += h;
+        }
+        MeanRun {
+            model,
+            e0,
+            y_a,
+            y,
+            t,
+        }
+    }
+
+    /// <P_loss> / (mu <P_in>) over the averaging periods, from the accumulator states.
+    fn loss_ratio(&self) -> f64 {
+        let (a, y) = (&self.y_a, &self.y);
+        (y[idx::E_LOSS] - a[idx::E_LOSS]) / (self.model.params().mu * (y[idx::E_IN] - a[idx::E_IN]))
+    }
+}
+
 #[test]
 fn default_run_mean_loss_is_just_below_h_v() {
-    let p = Params::default();
-    let mut model = GearedRotor::new(p).unwrap();
-    let omega1 = 314.159;
-    model.set_inputs(Inputs {
-        omega1,
-        ..Inputs::default()
-    });
-    let (ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
-    let mut y = model.initialize_with(0.0, &ic).unwrap();
-    let ms = masses(&p);
-    let e0 = model.outputs(0.0, &y);
-    let tm = 2.0 * std::f64::consts::PI / (27.0 * omega1);
-    let n = 100;
-    let h = tm / n as f64;
-    let mut t = 0.0;
-    // settle for 60 mesh periods
-    for _ in 0..60 * n {
-        y = rk4(&mut model, &ms, t, &y, h);
-        t += h;
-    }
-    let (ein0, eloss0, phi_a, xi_a) = (y[idx::E_IN], y[idx::E_LOSS], y[idx::PHI1], y[6]);
-    let periods = 20;
-    for _ in 0..periods * n {
-        y = rk4(&mut model, &ms, t, &y, h);
-        t += h;
-    }
+    let run = MeanRun::new(Params::default());
+    let (model, y, t) = (&run.model, &run.y, run.t);
+    let e0 = run.e0;
+    let (phi_a, xi_a) = (run.y_a[idx::PHI1], run.y_a[6]);
     let g = *model.geometry();
-    let ratio = (y[idx::E_LOSS] - eloss0) / (p.mu * (y[idx::E_IN] - ein0));
+    let ratio = run.loss_ratio();
     let rel = (ratio - g.h_v) / g.h_v;
     // mean omega2 over whole periods from xi: Delta phi2 = (Delta xi + r_b1 Delta phi1) / r_b2
     let dphi1 = y[idx::PHI1] - phi_a;
     let dphi2 = (y[6] - xi_a + g.rb1 * dphi1) / g.rb2;
     let w2_rel = (dphi2 / dphi1 - 27.0 / 41.0) / (27.0 / 41.0);
-    let o = model.outputs(t, &y);
+    let o = model.outputs(t, y);
     let bal = o.e_in - o.e_loss - o.e_damp - o.e_load - (o.e_kin - e0.e_kin) - (o.e_pot - e0.e_pot);
     println!(
         "defaults: <P_loss>/(mu <P_in>) = {ratio:.6}, H_V = {:.6}, rel {rel:.4e}; mean omega2 rel err {w2_rel:.2e}; energy residual {:.2e} of E_in; gap {:.2e} m",
@@ -154,30 +178,9 @@ fn stiff_bearings_small_mu_mean_loss_matches_h_v() {
     };
     p.rotor1.k = [1e10; 3];
     p.rotor2.k = [1e10; 3];
-    let mut model = GearedRotor::new(p).unwrap();
-    let omega1 = 314.159;
-    model.set_inputs(Inputs {
-        omega1,
-        ..Inputs::default()
-    });
-    let (ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
-    let mut y = model.initialize_with(0.0, &ic).unwrap();
-    let ms = masses(&p);
-    let tm = 2.0 * std::f64::consts::PI / (27.0 * omega1);
-    let n = 100;
-    let h = tm / n as f64;
-    let mut t = 0.0;
-    for _ in 0..60 * n {
-        y = rk4(&mut model, &ms, t, &y, h);
-        t += h;
-    }
-    let (ein0, eloss0) = (y[idx::E_IN], y[idx::E_LOSS]);
-    for _ in 0..20 * n {
-        y = rk4(&mut model, &ms, t, &y, h);
-        t += h;
-    }
-    let g = *model.geometry();
-    let ratio = (y[idx::E_LOSS] - eloss0) / (p.mu * (y[idx::E_IN] - ein0));
+    let run = MeanRun::new(p);
+    let g = *run.model.geometry();
+    let ratio = run.loss_ratio();
     let rel = (ratio - g.h_v) / g.h_v;
     println!(
         "k = 1e10, mu = 1e-3: <P_loss>/(mu <P_in>) = {ratio:.8}, H_V = {:.8}, rel {rel:.3e}",

@@ -3,31 +3,18 @@
 //! of lambda. dG/dt v is computed here by central differences of G(q + h v) (Richardson),
 //! v' from f of the crate divided by the masses.
 
+mod common;
+
+use common::rng::Rng;
+use common::rotor::{driven, masses};
 use geared_rotor::rotor::{idx, GearedRotor, InitialConditions, Inputs, Params, NY};
 use nalgebra::{SVector, Vector3};
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.next() - 1.0)
-    }
-}
 
 /// Returns (residual of the hidden constraint, scale = |lambda| G M^-1 G^T + |G M^-1 F| ...).
 fn hidden_constraint(model: &mut GearedRotor, t: f64, y: &SVector<f64, NY>) -> (f64, f64) {
     let p = *model.params();
     let g = *model.geometry();
-    let masses = [
-        p.rotor1.m, p.rotor1.m, p.rotor1.m, p.rotor2.m, p.rotor2.m, p.rotor2.m, p.rotor2.j,
-    ];
+    let masses = masses(&p);
     let mut f = SVector::<f64, NY>::zeros();
     model.rhs(t, y, &mut f).unwrap();
     let row = |q: &[f64; 6]| {
@@ -131,11 +118,7 @@ fn lambda_satisfies_hidden_constraint_for_both_signs() {
 
 #[test]
 fn default_initialisation_and_static_equilibrium() {
-    let mut model = GearedRotor::new(Params::default()).unwrap();
-    model.set_inputs(Inputs {
-        omega1: 314.159,
-        ..Inputs::default()
-    });
+    let mut model = driven(Params::default(), 314.159);
     let y = model.initialize(0.0).unwrap();
     let g = *model.geometry();
     let o = model.outputs(0.0, &y);
@@ -145,11 +128,7 @@ fn default_initialisation_and_static_equilibrium() {
         mu: 0.0,
         ..Params::default()
     };
-    let mut m0 = GearedRotor::new(p).unwrap();
-    m0.set_inputs(Inputs {
-        omega1: 314.159,
-        ..Inputs::default()
-    });
+    let mut m0 = driven(p, 314.159);
     let (ic, lam) = m0.static_equilibrium(0.0, 0.0).unwrap();
     let y0 = m0.initialize_with(0.0, &ic).unwrap();
     let lam_ref = 0.5 * 314.159 * 27.0 / 41.0 / (g.rb2 * g.cos_beta_b);

@@ -4,23 +4,11 @@
 //! bookkeeping of f (E_in' - E_loss' - E_damp' - E_load' = d/dt (E_kin + E_pot), model.md §9.6)
 //! at consistent states.
 
+mod common;
+
+use common::rng::Rng;
 use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
 use nalgebra::{SMatrix, SVector};
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.next() - 1.0)
-    }
-}
 
 fn state(model: &mut GearedRotor, rng: &mut Rng) -> SVector<f64, NY> {
     model.set_inputs(Inputs {

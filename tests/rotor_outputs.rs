@@ -1,6 +1,9 @@
 //! Outputs of model.md §6 against their definitions, computed here from the state, the
 //! §3 formulas and the powers in f.
 
+mod common;
+
+use common::rotor::masses;
 use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
 use nalgebra::{SVector, Vector3};
 
@@ -57,9 +60,7 @@ fn outputs_follow_their_definitions() {
     }
     // energies
     let mut ek = 0.5 * p.rotor1.j * y[idx::OMEGA1].powi(2);
-    let masses = [
-        p.rotor1.m, p.rotor1.m, p.rotor1.m, p.rotor2.m, p.rotor2.m, p.rotor2.m, p.rotor2.j,
-    ];
+    let masses = masses(&p);
     let mut ep = 0.0;
     for i in 0..7 {
         ek += 0.5 * masses[i] * y[idx::V + i].powi(2);

@@ -1,15 +1,14 @@
 //! Bad states give typed errors, never panics (COMMON.md: no panics on bad input).
 
-use geared_rotor::rotor::{idx, GearedRotor, Inputs, ModelError, Params, NY};
+mod common;
+
+use common::rotor::driven;
+use geared_rotor::rotor::{idx, ModelError, Params, NY};
 use nalgebra::{SMatrix, SVector};
 
 #[test]
 fn bad_states_are_errors_not_panics() {
-    let mut model = GearedRotor::new(Params::default()).unwrap();
-    model.set_inputs(Inputs {
-        omega1: 314.159,
-        ..Inputs::default()
-    });
+    let mut model = driven(Params::default(), 314.159);
     let y0 = model.initialize(0.0).unwrap();
     let mut f = SVector::<f64, NY>::zeros();
     let mut jac = SMatrix::<f64, NY, NY>::zeros();
