@@ -1,1 +1,12 @@
-//! Placeholder: filled in by its issue.
+//! Gear pair geometry, mesh kinematics of the displaced centres, contact lines and
+//! distributed Coulomb friction (`model.md` §2-§4, §9.7). No solver, no FMI.
+
+pub mod contact_lines;
+pub mod friction;
+pub mod geometry;
+pub mod mesh;
+
+pub use contact_lines::{ContactSummary, Segment};
+pub use friction::{line_integrals, Friction, FrictionLaw, FrictionSums, LineIntegrals};
+pub use geometry::{inv, inv_inverse, GearData, PairGeometry, ParamError};
+pub use mesh::{Kinematics, Mesh, MeshError};

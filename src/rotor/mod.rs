@@ -1,1 +1,199 @@
-//! Placeholder: filled in by its issue.
+//! The geared-rotor index-2 DAE of `model.md` §5-§8 in first-order form
+//! `M_ext y' = f(t, y)`, its consistent initial values (§7) and outputs (§6).
+//! No solver, no FMI.
+
+mod dae;
+mod params;
+
+pub use crate::gear::FrictionLaw;
+pub use dae::{GearedRotor, InitialConditions};
+pub use params::{Inputs, Params, RotorData};
+
+use std::fmt;
+
+/// Length of the state vector y.
+pub const NY: usize = 22;
+
+/// Layout of y. `M_ext = diag(I7, M, 1, 1, 1, 1, 1, 1, 1, 0)`.
+pub mod idx {
+    /// 7 positions: u1x u1y u1z u2x u2y u2z, then `xi`.
+    ///
+    /// The 7th coordinate is NOT phi2 but the transmission error along the line of action
+    /// `xi = r_b2 (phi2 - phi2(0)) - r_b1 (phi1 - phi1(0))` in metres (`model.md` §5, §6).
+    /// Why: phi1 and phi2 grow without bound and RADAU5 scales errors with
+    /// `atol + rtol |y|`, so a growing angle would get a growing error allowance (tens of
+    /// micrometres of mesh position after 1 s at rtol 1e-6). xi stays bounded (micrometres),
+    /// is measured in the same unit as the displacements, and its derivative
+    /// `xi' = r_b2 omega2 - r_b1 omega1` is linear in the state. f does not depend on xi
+    /// at all (only the gap diagnostic does); phi2 is recovered in the outputs.
+    pub const Q: usize = 0;
+    /// 7 velocities: u1x' u1y' u1z' u2x' u2y' u2z', omega2 (= phi2', V+6).
+    pub const V: usize = 7;
+    /// Angle of gear 1 (integral of the filtered omega1). It enters the mesh phase only
+    /// reduced modulo the mesh period 2 pi / z1 (see `PairGeometry::mesh_phase`).
+    pub const PHI1: usize = 14;
+    /// Filtered drive speed omega1 (`model.md` §8).
+    pub const OMEGA1: usize = 15;
+    /// Its derivative omega1' (filter state).
+    pub const OMEGA1_DOT: usize = 16;
+    /// Energy supplied by the drive, E_in' = T1 omega1.
+    pub const E_IN: usize = 17;
+    /// Energy dissipated by tooth friction, E_loss' = P_loss.
+    pub const E_LOSS: usize = 18;
+    /// Energy dissipated by the dampers, E_damp' = d_phi omega2^2 + sum d u'^2.
+    pub const E_DAMP: usize = 19;
+    /// Energy taken by the load torque, E_load' = T_load omega2.
+    pub const E_LOAD: usize = 20;
+    /// Lagrange multiplier lambda = normal contact force (index-2 variable).
+    pub const LAMBDA: usize = 21;
+}
+
+/// Number of index-1 (differential) components for RADAU5.
+pub const N_INDEX1: usize = 21;
+/// Number of index-2 components for RADAU5 (lambda).
+pub const N_INDEX2: usize = 1;
+
+/// Why f, the initial values or the outputs cannot be evaluated.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModelError {
+    /// The centres came too close: no line of action (`model.md` §3.1).
+    CentreDistanceTooSmall {
+        /// Time of the evaluation.
+        t: f64,
+        /// Actual transverse centre distance.
+        a: f64,
+        /// r_b1 + r_b2.
+        r_sum: f64,
+    },
+    /// No contact line lies in the active area (l = 0): the line load mu |lambda| / l is undefined.
+    NoContact {
+        /// Time of the evaluation.
+        t: f64,
+    },
+    /// NaN or infinity in the state or in f.
+    NonFinite {
+        /// Time of the evaluation.
+        t: f64,
+        /// What was non-finite.
+        what: &'static str,
+    },
+    /// The hidden constraint has no consistent solution for lambda (friction so strong
+    /// that both sign assumptions fail or both hold: a Painleve-type situation, §7).
+    InconsistentLambda {
+        /// Time of the evaluation.
+        t: f64,
+        /// lambda under the assumption lambda >= 0.
+        lambda_pos: f64,
+        /// lambda under the assumption lambda < 0.
+        lambda_neg: f64,
+    },
+    /// A requested start state does not exist (e.g. static equilibrium with a zero stiffness).
+    NoStaticEquilibrium {
+        /// Reason.
+        reason: &'static str,
+    },
+}
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ModelError::CentreDistanceTooSmall { t, a, r_sum } => write!(
+                f,
+                "t = {t}: centre distance a = {a} m must exceed r_b1 + r_b2 = {r_sum} m"
+            ),
+            ModelError::NoContact { t } => {
+                write!(f, "t = {t}: no contact line in the active area (l = 0)")
+            }
+            ModelError::NonFinite { t, what } => write!(f, "t = {t}: non-finite {what}"),
+            ModelError::InconsistentLambda {
+                t,
+                lambda_pos,
+                lambda_neg,
+            } => write!(
+                f,
+                "t = {t}: no unique consistent contact force (lambda >= 0 gives {lambda_pos}, \
+                 lambda < 0 gives {lambda_neg})"
+            ),
+            ModelError::NoStaticEquilibrium { reason } => {
+                write!(f, "no static equilibrium: {reason}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ModelError {}
+
+/// Outputs of `model.md` §6 (all inertial, SI).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Outputs {
+    /// Driving torque on gear 1, `T1 = lambda r_b1 cos beta_b - M1_z + J1 omega1'`.
+    pub t1: f64,
+    /// Filtered drive speed.
+    pub omega1: f64,
+    /// Its derivative.
+    pub omega1_dot: f64,
+    /// Angle of gear 1.
+    pub phi1: f64,
+    /// Speed of gear 2 (about -e_z).
+    pub omega2: f64,
+    /// Angle of gear 2 (about -e_z).
+    pub phi2: f64,
+    /// Normal force lambda.
+    pub fn_: f64,
+    /// Transmission error `r_b2 phi2 - r_b1 phi1` relative to t = 0.
+    pub te: f64,
+    /// Gap drift g (should stay ~0).
+    pub gap: f64,
+    /// Input power T1 omega1.
+    pub p_in: f64,
+    /// Friction loss.
+    pub p_loss: f64,
+    /// Damper power d_phi omega2^2 + u'^T D u'.
+    pub p_damp: f64,
+    /// Energy states.
+    pub e_in: f64,
+    /// Cumulative friction loss.
+    pub e_loss: f64,
+    /// Cumulative damper loss.
+    pub e_damp: f64,
+    /// Cumulative load energy.
+    pub e_load: f64,
+    /// 1/2 q'^T M q' + 1/2 J1 omega1^2.
+    pub e_kin: f64,
+    /// 1/2 q^T K q.
+    pub e_pot: f64,
+    /// Total contact length l.
+    pub contact_length: f64,
+    /// Pairs in contact.
+    pub pairs_in_contact: i32,
+    /// lambda < 0: the single-flank assumption is violated.
+    pub contact_lost: bool,
+    /// Displacement of centre 1.
+    pub u1: [f64; 3],
+    /// Displacement of centre 2.
+    pub u2: [f64; 3],
+    /// Velocity of centre 1.
+    pub v1: [f64; 3],
+    /// Velocity of centre 2.
+    pub v2: [f64; 3],
+    /// Bearing force of rotor 1 on the housing, K1 u1 + D1 u1'.
+    pub f_bearing1: [f64; 3],
+    /// Bearing force of rotor 2 on the housing.
+    pub f_bearing2: [f64; 3],
+    /// Friction force on gear 1.
+    pub f_friction1: [f64; 3],
+    /// Friction force on gear 2.
+    pub f_friction2: [f64; 3],
+    /// Friction moment on gear 1 about c1.
+    pub m_friction1: [f64; 3],
+    /// Friction moment on gear 2 about c2.
+    pub m_friction2: [f64; 3],
+    /// Total contact force on gear 1 (normal -lambda n + friction).
+    pub f_contact1: [f64; 3],
+    /// Total contact force on gear 2 (normal +lambda n + friction).
+    pub f_contact2: [f64; 3],
+    /// Total contact moment on gear 1 about c1 (normal load distributed along the lines + friction).
+    pub m_contact1: [f64; 3],
+    /// Total contact moment on gear 2 about c2.
+    pub m_contact2: [f64; 3],
+}

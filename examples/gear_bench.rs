@@ -1,0 +1,69 @@
+//! Benchmark (not a test): median time of one f(t, y) and one Jacobian evaluation for the
+//! default pair. Run: `cargo run --release --example gear_bench`.
+
+use geared_rotor::rotor::{GearedRotor, Inputs, Params, NY};
+use nalgebra::{SMatrix, SVector};
+use std::hint::black_box;
+use std::time::Instant;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn main() {
+    let mut model = GearedRotor::new(Params::default()).expect("default parameters are valid");
+    model.set_inputs(Inputs {
+        omega1: 314.159,
+        ..Inputs::default()
+    });
+    let (ic, _) = model
+        .static_equilibrium(0.0, 0.0)
+        .expect("static equilibrium");
+    let y0 = model.initialize_with(0.0, &ic).expect("initial state");
+    let o = model.outputs(0.0, &y0);
+    println!(
+        "initial: lambda = {:.3} N, T1 = {:.4} N m, omega2 = {:.4}, l = {:.6} m, pairs = {}, u1 = {:?}",
+        o.fn_, o.t1, o.omega2, o.contact_length, o.pairs_in_contact, o.u1
+    );
+    // States spread over one mesh period so that every contact configuration is timed.
+    let states: Vec<SVector<f64, NY>> = (0..64)
+        .map(|i| {
+            let mut y = y0;
+            y[geared_rotor::rotor::idx::PHI1] = i as f64 * 2.0 * std::f64::consts::PI / 27.0 / 64.0;
+            y
+        })
+        .collect();
+    let mut f = SVector::<f64, NY>::zeros();
+    let reps = 2000;
+    let mut samples = Vec::new();
+    for _ in 0..200 {
+        let t0 = Instant::now();
+        for r in 0..reps {
+            let y = &states[r % states.len()];
+            model.rhs(0.0, black_box(y), &mut f).expect("rhs");
+            black_box(&f);
+        }
+        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
+    }
+    println!(
+        "rhs: median {:.1} ns per evaluation (200 x {reps} reps)",
+        median(samples) * 1e9
+    );
+    let mut jac = SMatrix::<f64, NY, NY>::zeros();
+    let reps = 200;
+    let mut samples = Vec::new();
+    for _ in 0..100 {
+        let t0 = Instant::now();
+        for r in 0..reps {
+            let y = &states[r % states.len()];
+            assert!(model.jacobian(0.0, black_box(y), &mut jac));
+            black_box(&jac);
+        }
+        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
+    }
+    println!(
+        "jacobian: median {:.2} us per evaluation (100 x {reps} reps)",
+        median(samples) * 1e6
+    );
+}

@@ -1,0 +1,407 @@
+//! Gear pair geometry after ISO 21771 / DIN 3960 (`model.md` §2) and the analytic
+//! gear loss factor H_V (`model.md` §9.7).
+
+use std::f64::consts::PI;
+use std::fmt;
+
+/// Engineering data of the gear pair (`model.md` §2, defaults §10).
+///
+/// Angles in rad, lengths in m. `a_w = 0` means: derive the operating centre
+/// distance from the profile shifts `x1 + x2` (zero-backlash condition).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GearData {
+    /// Number of teeth of gear 1 (driving).
+    pub z1: i32,
+    /// Number of teeth of gear 2 (driven).
+    pub z2: i32,
+    /// Normal module m_n.
+    pub m_n: f64,
+    /// Normal pressure angle alpha_n.
+    pub alpha_n: f64,
+    /// Helix angle beta at the reference cylinder; the sign selects the hand (§1).
+    pub beta: f64,
+    /// Common face width b.
+    pub b: f64,
+    /// Profile shift coefficient of gear 1.
+    pub x1: f64,
+    /// Profile shift coefficient of gear 2.
+    pub x2: f64,
+    /// Addendum coefficient h_aP* of the basic rack (1.0).
+    pub ha_coef: f64,
+    /// Operating centre distance; 0 = derive from x1 + x2.
+    pub a_w: f64,
+}
+
+impl Default for GearData {
+    /// The default automotive-size helical pair of `model.md` §10.
+    fn default() -> Self {
+        Self {
+            z1: 27,
+            z2: 41,
+            m_n: 2.0e-3,
+            alpha_n: 20f64.to_radians(),
+            beta: 20f64.to_radians(),
+            b: 18.0e-3,
+            x1: 0.0,
+            x2: 0.0,
+            ha_coef: 1.0,
+            a_w: 0.0,
+        }
+    }
+}
+
+/// A parameter (or a parameter combination) that violates a bound of `model.md` §2.
+///
+/// `name` is the parameter held responsible (for derived conditions the one whose
+/// change most directly repairs the set), `requirement` states the bound and, for
+/// derived conditions, the derived quantity that violates it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamError {
+    /// Parameter name as in the FMI model description (`z1`, `m_n`, `b`, ...).
+    pub name: &'static str,
+    /// The offending value of that parameter.
+    pub value: f64,
+    /// The violated bound, human readable.
+    pub requirement: String,
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "parameter {} = {} violates {}",
+            self.name, self.value, self.requirement
+        )
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+/// Involute function inv x = tan x - x.
+#[inline]
+pub fn inv(x: f64) -> f64 {
+    x.tan() - x
+}
+
+/// Inverse of the involute function on (0, pi/2) by Newton's method.
+///
+/// inv'(x) = tan^2 x; the start (3 v)^(1/3) is the leading term of the series
+/// inv x = x^3/3 + ..., from which Newton converges monotonically (inv is convex).
+/// Returns None for v <= 0 or non-finite v.
+pub fn inv_inverse(v: f64) -> Option<f64> {
+    if !(v > 0.0 && v.is_finite()) {
+        return None;
+    }
+    let mut x = (3.0 * v).cbrt().min(1.5);
+    for _ in 0..100 {
+        let tx = x.tan();
+        let dx = (tx - x - v) / (tx * tx);
+        x -= dx;
+        if !(x > 0.0 && x < PI / 2.0) {
+            return None;
+        }
+        if dx.abs() <= 1e-16 * x {
+            break;
+        }
+    }
+    Some(x)
+}
+
+/// All derived quantities of the pair at its nominal position (`model.md` §2).
+///
+/// Besides the fields fixed by the API, the trigonometric values of beta_b and the
+/// quantities needed in every mesh evaluation are cached here.
+#[derive(Debug, Clone, Copy)]
+pub struct PairGeometry {
+    /// The engineering data this geometry was derived from.
+    pub data: GearData,
+    /// Transverse pressure angle alpha_t = atan(tan alpha_n / cos beta).
+    pub alpha_t: f64,
+    /// Reference radius r_1 = z1 m_n / (2 cos beta).
+    pub r1: f64,
+    /// Reference radius r_2.
+    pub r2: f64,
+    /// Base radius r_b1 = r_1 cos alpha_t.
+    pub rb1: f64,
+    /// Base radius r_b2.
+    pub rb2: f64,
+    /// Base helix angle beta_b = asin(sin beta cos alpha_n), signed like beta.
+    pub beta_b: f64,
+    /// Transverse base pitch p_bt = 2 pi r_b1 / z1.
+    pub p_bt: f64,
+    /// Working transverse pressure angle alpha_wt.
+    pub alpha_wt: f64,
+    /// Operating centre distance a_w (given or derived).
+    pub a_w: f64,
+    /// Tip radius r_a1 = r_1 + m_n (h_aP* + x1).
+    pub ra1: f64,
+    /// Tip radius r_a2.
+    pub ra2: f64,
+    /// Start of contact sigma_A (from T1 along the line of action).
+    pub sigma_a: f64,
+    /// End of contact sigma_E.
+    pub sigma_e: f64,
+    /// Pitch point sigma_C = r_b1 tan alpha_wt.
+    pub sigma_c: f64,
+    /// Transverse contact ratio.
+    pub eps_alpha: f64,
+    /// Overlap ratio eps_beta = b |tan beta_b| / p_bt.
+    pub eps_beta: f64,
+    /// Approach part of the contact ratio (sigma_C - sigma_A)/p_bt.
+    pub eps_1: f64,
+    /// Recess part of the contact ratio (sigma_E - sigma_C)/p_bt.
+    pub eps_2: f64,
+    /// Analytic gear loss factor H_V (`model.md` §9.7); see [`PairGeometry::loss_factor`].
+    pub h_v: f64,
+    /// cos beta_b.
+    pub cos_beta_b: f64,
+    /// sin beta_b (signed).
+    pub sin_beta_b: f64,
+    /// tan beta_b (signed).
+    pub tan_beta_b: f64,
+    /// inv alpha_wt (the phase origin of `model.md` §3.4).
+    pub inv_alpha_wt: f64,
+    /// R = r_b1 + r_b2.
+    pub r_sum: f64,
+    /// sqrt(r_a2^2 - r_b2^2): sigma_A = a sin alpha - this, in any displaced state.
+    pub rho_a2: f64,
+    /// Mesh period in phi1: 2 pi / z1.
+    pub phi1_period: f64,
+}
+
+fn err(name: &'static str, value: f64, requirement: String) -> ParamError {
+    ParamError {
+        name,
+        value,
+        requirement,
+    }
+}
+
+impl PairGeometry {
+    /// Derives and validates the pair geometry (`model.md` §2).
+    ///
+    /// # Errors
+    /// A [`ParamError`] naming the first violated rule of §2: `z_j >= 5`, `m_n > 0`,
+    /// `0 < alpha_n < 45 deg`, `|beta| < 45 deg`, `b > 0`, `h_aP > 0`, finite shifts,
+    /// `r_aj > r_bj`, a valid working pressure angle (`x1+x2` resp. `a_w > r_b1 + r_b2`),
+    /// `0 <= sigma_A < sigma_E <= a_w sin alpha_wt`, `eps_alpha + eps_beta > 1`, and
+    /// (buffer bound of the contact-line loop) `eps_alpha + eps_beta <= 60`.
+    pub fn new(data: &GearData) -> Result<Self, ParamError> {
+        let d = *data;
+        let deg45 = PI / 4.0;
+        if d.z1 < 5 {
+            return Err(err("z1", d.z1 as f64, "z1 >= 5".into()));
+        }
+        if d.z2 < 5 {
+            return Err(err("z2", d.z2 as f64, "z2 >= 5".into()));
+        }
+        if !(d.m_n > 0.0 && d.m_n.is_finite()) {
+            return Err(err("m_n", d.m_n, "0 < m_n < inf".into()));
+        }
+        if !(d.alpha_n > 0.0 && d.alpha_n < deg45) {
+            return Err(err(
+                "alpha_n",
+                d.alpha_n,
+                "0 < alpha_n < 45 deg (0.7853981634 rad)".into(),
+            ));
+        }
+        if !(d.beta.abs() < deg45) {
+            return Err(err(
+                "beta",
+                d.beta,
+                "|beta| < 45 deg (0.7853981634 rad)".into(),
+            ));
+        }
+        if !(d.b > 0.0 && d.b.is_finite()) {
+            return Err(err("b", d.b, "0 < b < inf".into()));
+        }
+        if !(d.ha_coef > 0.0 && d.ha_coef.is_finite()) {
+            return Err(err("h_aP", d.ha_coef, "0 < h_aP < inf".into()));
+        }
+        if !d.x1.is_finite() {
+            return Err(err("x1", d.x1, "x1 finite".into()));
+        }
+        if !d.x2.is_finite() {
+            return Err(err("x2", d.x2, "x2 finite".into()));
+        }
+        if !(d.a_w >= 0.0 && d.a_w.is_finite()) {
+            return Err(err(
+                "a_w",
+                d.a_w,
+                "a_w >= 0 (0 = derive from x1 + x2)".into(),
+            ));
+        }
+        let (z1, z2) = (d.z1 as f64, d.z2 as f64);
+        let cb = d.beta.cos();
+        let alpha_t = (d.alpha_n.tan() / cb).atan();
+        let r1 = z1 * d.m_n / (2.0 * cb);
+        let r2 = z2 * d.m_n / (2.0 * cb);
+        let rb1 = r1 * alpha_t.cos();
+        let rb2 = r2 * alpha_t.cos();
+        let beta_b = (d.beta.sin() * d.alpha_n.cos()).asin();
+        let p_bt = 2.0 * PI * rb1 / z1;
+        let ra1 = r1 + d.m_n * (d.ha_coef + d.x1);
+        let ra2 = r2 + d.m_n * (d.ha_coef + d.x2);
+        if !(ra1 > rb1) {
+            return Err(err(
+                "x1",
+                d.x1,
+                format!("tip radius r_a1 = {ra1} > base radius r_b1 = {rb1}"),
+            ));
+        }
+        if !(ra2 > rb2) {
+            return Err(err(
+                "x2",
+                d.x2,
+                format!("tip radius r_a2 = {ra2} > base radius r_b2 = {rb2}"),
+            ));
+        }
+        let r_sum = rb1 + rb2;
+        let (alpha_wt, a_w) = if d.a_w == 0.0 {
+            let v = inv(alpha_t) + 2.0 * d.alpha_n.tan() * (d.x1 + d.x2) / (z1 + z2);
+            match inv_inverse(v) {
+                Some(awt) => (awt, r_sum / awt.cos()),
+                None => return Err(err(
+                    "x1+x2",
+                    d.x1 + d.x2,
+                    format!(
+                        "inv alpha_wt = inv alpha_t + 2 tan alpha_n (x1 + x2)/(z1 + z2) = {v} > 0"
+                    ),
+                )),
+            }
+        } else {
+            if !(d.a_w > r_sum) {
+                return Err(err(
+                    "a_w",
+                    d.a_w,
+                    format!("a_w > r_b1 + r_b2 = {r_sum} (or a_w = 0)"),
+                ));
+            }
+            ((r_sum / d.a_w).acos(), d.a_w)
+        };
+        let loa = a_w * alpha_wt.sin();
+        let rho_a2 = (ra2 * ra2 - rb2 * rb2).sqrt();
+        let sigma_e = (ra1 * ra1 - rb1 * rb1).sqrt();
+        let sigma_a = loa - rho_a2;
+        let sigma_c = rb1 * alpha_wt.tan();
+        if !(sigma_a >= 0.0) {
+            return Err(err(
+                "x2",
+                d.x2,
+                format!(
+                    "sigma_A = a_w sin alpha_wt - sqrt(r_a2^2 - r_b2^2) = {sigma_a} >= 0 \
+                     (tip of gear 2 must not pass T1: interference)"
+                ),
+            ));
+        }
+        if !(sigma_e <= loa) {
+            return Err(err(
+                "x1",
+                d.x1,
+                format!(
+                    "sigma_E = sqrt(r_a1^2 - r_b1^2) = {sigma_e} <= a_w sin alpha_wt = {loa} \
+                     (tip of gear 1 must not pass T2: interference)"
+                ),
+            ));
+        }
+        if !(sigma_a < sigma_e) {
+            return Err(err(
+                "h_aP",
+                d.ha_coef,
+                format!("sigma_A = {sigma_a} < sigma_E = {sigma_e} (the tips must overlap)"),
+            ));
+        }
+        let eps_alpha = (sigma_e - sigma_a) / p_bt;
+        let eps_1 = (sigma_c - sigma_a) / p_bt;
+        let eps_2 = (sigma_e - sigma_c) / p_bt;
+        let tan_beta_b = beta_b.tan();
+        let eps_beta = d.b * tan_beta_b.abs() / p_bt;
+        if !(eps_alpha + eps_beta > 1.0) {
+            let (name, value) = if d.beta == 0.0 {
+                ("h_aP", d.ha_coef)
+            } else {
+                ("b", d.b)
+            };
+            return Err(err(
+                name,
+                value,
+                format!(
+                    "eps_alpha + eps_beta = {} > 1 (the contact must never vanish)",
+                    eps_alpha + eps_beta
+                ),
+            ));
+        }
+        if !(eps_alpha + eps_beta <= 60.0) {
+            return Err(err(
+                "b",
+                d.b,
+                format!(
+                    "eps_alpha + eps_beta = {} <= 60 (bound of the contact-line loop)",
+                    eps_alpha + eps_beta
+                ),
+            ));
+        }
+        let mut g = Self {
+            data: d,
+            alpha_t,
+            r1,
+            r2,
+            rb1,
+            rb2,
+            beta_b,
+            p_bt,
+            alpha_wt,
+            a_w,
+            ra1,
+            ra2,
+            sigma_a,
+            sigma_e,
+            sigma_c,
+            eps_alpha,
+            eps_beta,
+            eps_1,
+            eps_2,
+            h_v: 0.0,
+            cos_beta_b: beta_b.cos(),
+            sin_beta_b: beta_b.sin(),
+            tan_beta_b,
+            inv_alpha_wt: inv(alpha_wt),
+            r_sum,
+            rho_a2,
+            phi1_period: 2.0 * PI / z1,
+        };
+        g.h_v = g.loss_factor();
+        Ok(g)
+    }
+
+    /// Gear ratio u = z2 / z1.
+    pub fn ratio(&self) -> f64 {
+        self.data.z2 as f64 / self.data.z1 as f64
+    }
+
+    /// Analytic gear loss factor H_V (`model.md` §9.7), defined by
+    /// `<P_loss> = mu <P_in> H_V` for a rigid pair in uniform rotation.
+    ///
+    /// Why these formulas: the sliding speed along the line of action is
+    /// `(omega1 + omega2)(sigma - sigma_C)` and the line load is `lambda / l`.
+    /// - helical (beta != 0): `pi (u+1)/(z1 u cos beta_b) (eps_1^2 + eps_2^2)/eps_alpha`,
+    ///   the phase average of `int |sigma - sigma_C| dl / l`; exact when `l` is
+    ///   constant (integer eps_beta), an approximation otherwise.
+    /// - spur (beta = 0, 1 < eps_alpha < 2, load shared equally in double contact):
+    ///   `pi (u+1)/(2 z1 u) [eps_1^2 + eps_2^2 + (1-eps_1)|1-eps_1| + (1-eps_2)|1-eps_2|]`,
+    ///   which is Ohlendorf's formula when eps_1, eps_2 <= 1.
+    pub fn loss_factor(&self) -> f64 {
+        let u = self.ratio();
+        let z1 = self.data.z1 as f64;
+        let (e1, e2) = (self.eps_1, self.eps_2);
+        if self.data.beta == 0.0 {
+            PI * (u + 1.0) / (2.0 * z1 * u)
+                * (e1 * e1
+                    + e2 * e2
+                    + (1.0 - e1) * (1.0 - e1).abs()
+                    + (1.0 - e2) * (1.0 - e2).abs())
+        } else {
+            PI * (u + 1.0) / (z1 * u * self.cos_beta_b) * (e1 * e1 + e2 * e2) / self.eps_alpha
+        }
+    }
+}

@@ -1,0 +1,39 @@
+//! The problem interface `M y' = f(t, y)` (radau5.md, problem form).
+
+use nalgebra::{SMatrix, SVector};
+
+use super::RhsError;
+
+/// A problem `M y' = f(t, y)` with constant mass matrix `M`.
+///
+/// Components must be ordered index-1, then index-2, then index-3 (see
+/// [`super::Options::n1`]). The stepper is generic over the problem type, so calls are
+/// static (no dynamic dispatch in the inner loop).
+pub trait Problem<const N: usize> {
+    /// f(t, y). `Err` for a point where f is undefined (the stepper then shrinks h;
+    /// persistent -> [`super::Error::Rhs`]).
+    ///
+    /// # Errors
+    /// Whatever the problem cannot evaluate.
+    fn rhs(&mut self, t: f64, y: &SVector<f64, N>, f: &mut SVector<f64, N>)
+        -> Result<(), RhsError>;
+
+    /// Analytic `df/dy` into `jac`; `Ok(false)` = not provided (the stepper then uses
+    /// forward differences, radau5.md problem form).
+    ///
+    /// # Errors
+    /// Whatever the problem cannot evaluate.
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        _y: &SVector<f64, N>,
+        _jac: &mut SMatrix<f64, N, N>,
+    ) -> Result<bool, RhsError> {
+        Ok(false)
+    }
+
+    /// Constant mass matrix M of `M y' = f`; `None` = identity. Called once at construction.
+    fn mass(&self) -> Option<SMatrix<f64, N, N>> {
+        None
+    }
+}

@@ -1,0 +1,90 @@
+//! The complete mutable state of the integrator as plain data (radau5.md §8): everything
+//! `RADCOR` keeps in its locals and work arrays between two steps, plus what the
+//! step-based API adds. A [`super::Snapshot`] is a copy of this struct.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::linalg::{ComplexLu, RealLu};
+use super::options::Params;
+use super::Statistics;
+
+/// What the next attempt has to do first: the Fortran's labels 10 (new Jacobian),
+/// 20 (new LU pair) and 30 (step with the current LU pair).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Action {
+    Jacobian = 0,
+    Decompose = 1,
+    Step = 2,
+}
+
+impl Action {
+    pub fn from_u8(v: u8) -> Option<Self> {
+        match v {
+            0 => Some(Action::Jacobian),
+            1 => Some(Action::Decompose),
+            2 => Some(Action::Step),
+            _ => None,
+        }
+    }
+}
+
+/// Solver state (names of the Fortran variables in brackets).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct State<const N: usize> {
+    pub params: Params<N>,
+    /// Mass matrix (`FMAS`); only used when `has_mass`.
+    pub has_mass: bool,
+    pub mass: SMatrix<f64, N, N>,
+    /// Current point (`X`, `Y`) and the start of the last accepted step (`XOLD`).
+    pub t: f64,
+    pub y: SVector<f64, N>,
+    pub t_prev: f64,
+    /// `f(t, y)` (`Y0`); invalid after a step that landed on a stop time (the Fortran does
+    /// not evaluate it after its last step either), then evaluated lazily.
+    pub f0: SVector<f64, N>,
+    pub f0_valid: bool,
+    /// Controller proposal for the next step (`HNEW` after the h_max clip).
+    pub h_next: f64,
+    /// Size of the last accepted step (`HOLD`).
+    pub h_old: f64,
+    /// Step size the current LU pair was built with.
+    pub h_lu: f64,
+    /// Factor for the index-2/3 scaling (`HHFAC`).
+    pub hhfac: f64,
+    /// Gustafsson history (`HACC`, `ERRACC`).
+    pub h_acc: f64,
+    pub err_acc: f64,
+    /// Newton history (`FACCON`, `THETA`, `DYNOLD`, `THQOLD`).
+    pub faccon: f64,
+    pub theta: f64,
+    pub dynold: f64,
+    pub thqold: f64,
+    /// Error scale (`SCAL`).
+    pub scal: SVector<f64, N>,
+    /// Dense output (`CONT`, `XSOL`, `HSOL`): `u(s) = c0 + s (c1 + (s - c2m1)(c2 + (s - c1m1) c3))`.
+    pub cont: [SVector<f64, N>; 4],
+    pub xsol: f64,
+    pub hsol: f64,
+    /// Jacobian (`FJAC`) and the LU pair (`E1`, `IP1`; `E2R + i E2I`, `IP2`).
+    pub jac: SMatrix<f64, N, N>,
+    pub lu1: RealLu<N>,
+    pub lu2: ComplexLu<N>,
+    /// `FIRST`: no step accepted since the start or the last restart.
+    pub first: bool,
+    /// `REJECT`: the current step had a rejection or an unexpected failure.
+    pub reject: bool,
+    /// `CALJAC`: the Jacobian was evaluated at the current point.
+    pub caljac: bool,
+    pub jac_valid: bool,
+    pub lu_valid: bool,
+    /// The last accepted step was shortened to land on its stop time.
+    pub prev_clipped: bool,
+    pub action: Action,
+    /// Singular LUs since the last accepted step (`NSING`).
+    pub nsing: u32,
+    /// Accepted steps since the start / last restart (gates the Gustafsson controller).
+    pub naccpt_local: u64,
+    /// Step attempts since the last stop time reached (compared with `max_steps`).
+    pub steps_since_stop: u64,
+    pub stats: Statistics,
+}

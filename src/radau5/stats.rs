@@ -1,0 +1,31 @@
+//! Counters with the meaning of the Fortran's `IWORK(14..20)` (radau5.md §7).
+
+use std::fmt;
+
+/// Work counters, same meaning as `radau5.f`:
+/// - `nfcn`: calls of f (1 initial + 3 per Newton iteration + 1 per accepted step that is
+///   followed by another step + error-estimate refinements; not the calls inside a
+///   finite-difference Jacobian),
+/// - `njac`: Jacobian evaluations, `nstep`: step attempts, `naccpt`: accepted steps,
+/// - `nrejct`: rejected steps (error test, counted after the first accepted step),
+/// - `ndec`: LU pairs (real + complex), `nsol`: Newton solves (pairs).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Statistics {
+    pub nfcn: u64,
+    pub njac: u64,
+    pub nstep: u64,
+    pub naccpt: u64,
+    pub nrejct: u64,
+    pub ndec: u64,
+    pub nsol: u64,
+}
+
+impl fmt::Display for Statistics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "nfcn={} njac={} nstep={} naccpt={} nrejct={} ndec={} nsol={}",
+            self.nfcn, self.njac, self.nstep, self.naccpt, self.nrejct, self.ndec, self.nsol
+        )
+    }
+}

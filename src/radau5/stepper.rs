@@ -1,0 +1,859 @@
+//! The stepper: `RADCOR` of `radau5.f` (radau5.md §3-§5) as a step-based state machine
+//! (radau5.md §8).
+//!
+//! One call of [`Radau5::step`] runs the Fortran's loop from the step-size decision after
+//! the previous accepted step (labels 10/20/30) until the next accepted step. Everything
+//! the Fortran keeps between steps lives in [`State`], so a step never depends on how the
+//! integration was cut into calls, except where a stop time shortens a step.
+
+use nalgebra::{Complex, SMatrix, SVector};
+
+use super::linalg::{ComplexLu, RealLu};
+use super::options::{transform_tolerances, Params};
+use super::state::{Action, State};
+use super::tableau::{Tableau, T, TI};
+use super::{Error, Options, Problem, RhsError, Statistics, Tolerance};
+
+/// Consecutive failures of f (an `Err` or non-finite values) within one step after which
+/// the step gives up (each failure halves h like a Newton failure).
+const MAX_RHS_FAILURES: u32 = 10;
+/// Consecutive unexpected rejections (Newton divergence, singular LU, failing f) within
+/// one step after which the step gives up with [`Error::NewtonFailure`]. The Fortran has no
+/// such limit (it relies on "step size too small", which never triggers at t = 0).
+const MAX_UNEXPECTED: u32 = 20;
+/// Singular LU pairs in a row -> [`Error::SingularMatrix`] (`NSING >= 5` in `RADCOR`).
+const MAX_SINGULAR: u32 = 5;
+
+/// The RADAU5 integrator for `M y' = f(t, y)` with N components, fixed-size storage.
+#[derive(Debug, Clone)]
+pub struct Radau5<const N: usize> {
+    pub(crate) st: State<N>,
+    tab: Tableau,
+}
+
+/// Why an attempt failed "unexpectedly" (the Fortran's label 78).
+enum Failure {
+    Newton,
+    Singular,
+    Rhs(RhsError),
+    NonFinite,
+}
+
+/// Evaluates f and checks it for NaN/inf.
+#[inline]
+fn eval<P: Problem<N>, const N: usize>(
+    problem: &mut P,
+    t: f64,
+    y: &SVector<f64, N>,
+    f: &mut SVector<f64, N>,
+) -> Result<(), Failure> {
+    problem.rhs(t, y, f).map_err(Failure::Rhs)?;
+    if f.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(Failure::NonFinite)
+    }
+}
+
+impl<const N: usize> Radau5<N> {
+    /// Sets up the integrator at `(t0, y0)` (the initialisation part of `RADCOR`):
+    /// validates the options, reads the mass matrix, evaluates `f(t0, y0)` (1 call).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a bad option or non-finite `t0`/`y0`; [`Error::Rhs`] /
+    /// [`Error::NonFinite`] if f cannot be evaluated at the initial point.
+    pub fn new<P: Problem<N>>(
+        problem: &mut P,
+        options: Options<N>,
+        t0: f64,
+        y0: SVector<f64, N>,
+    ) -> Result<Self, Error> {
+        let params = Params::new(&options)?;
+        if !t0.is_finite() {
+            return Err(Error::InvalidOption {
+                name: "t0",
+                value: t0,
+                requirement: "finite",
+            });
+        }
+        if let Some(v) = y0.iter().find(|v| !v.is_finite()) {
+            return Err(Error::InvalidOption {
+                name: "y0",
+                value: *v,
+                requirement: "finite",
+            });
+        }
+        let mass = problem.mass();
+        let tab = Tableau::new();
+        let h = params.h_init;
+        let mut st = State {
+            params,
+            has_mass: mass.is_some(),
+            mass: mass.unwrap_or_else(SMatrix::identity),
+            t: t0,
+            y: y0,
+            t_prev: t0,
+            f0: SVector::zeros(),
+            f0_valid: false,
+            h_next: h,
+            h_old: h,
+            h_lu: h,
+            hhfac: h,
+            h_acc: 0.0,
+            err_acc: 0.0,
+            faccon: 1.0,
+            theta: params.thet.abs(),
+            dynold: 0.0,
+            thqold: 0.0,
+            scal: SVector::zeros(),
+            cont: [y0, SVector::zeros(), SVector::zeros(), SVector::zeros()],
+            xsol: t0,
+            hsol: h,
+            jac: SMatrix::zeros(),
+            lu1: RealLu::zeros(),
+            lu2: ComplexLu::zeros(),
+            first: true,
+            reject: false,
+            caljac: false,
+            jac_valid: false,
+            lu_valid: false,
+            prev_clipped: false,
+            action: Action::Jacobian,
+            nsing: 0,
+            naccpt_local: 0,
+            steps_since_stop: 0,
+            stats: Statistics::default(),
+        };
+        let mut f0 = SVector::zeros();
+        let r = eval(problem, t0, &y0, &mut f0);
+        st.stats.nfcn += 1;
+        Self::initial_eval_result(r, t0, h)?;
+        st.f0 = f0;
+        st.f0_valid = true;
+        Ok(Radau5 { st, tab })
+    }
+
+    fn initial_eval_result(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
+        match r {
+            Ok(()) => Ok(()),
+            Err(Failure::Rhs(e)) => Err(Error::Rhs {
+                t,
+                h,
+                message: e.message,
+            }),
+            Err(_) => Err(Error::NonFinite { t, h }),
+        }
+    }
+
+    /// Current time (end of the last accepted step).
+    pub fn t(&self) -> f64 {
+        self.st.t
+    }
+    /// Current state.
+    pub fn y(&self) -> &SVector<f64, N> {
+        &self.st.y
+    }
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        self.st.t_prev
+    }
+    /// Step size the next step will try (the controller's proposal, before any stop-time
+    /// clipping).
+    pub fn h(&self) -> f64 {
+        self.st.h_next
+    }
+    /// Work counters (radau5.md §7).
+    pub fn stats(&self) -> &Statistics {
+        &self.st.stats
+    }
+
+    /// Steps until `t == t_stop` exactly. Nothing is reset at `t_stop`: h, J, the LUs,
+    /// FACCON and the error history carry over into the next call.
+    ///
+    /// # Errors
+    /// See [`Radau5::step`].
+    pub fn integrate_to<P: Problem<N>>(&mut self, problem: &mut P, t_stop: f64) -> Result<(), Error> {
+        if t_stop.is_nan() || t_stop < self.st.t {
+            return Err(Error::StopTimeBehind {
+                t: self.st.t,
+                t_stop,
+            });
+        }
+        while self.st.t < t_stop {
+            self.step(problem, t_stop)?;
+        }
+        Ok(())
+    }
+
+    /// Replaces the tolerances (transformed like at construction, radau5.md §3); takes
+    /// effect from the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for `atol <= 0` or `rtol <= 10 uround`.
+    pub fn set_tolerances(&mut self, rtol: Tolerance<N>, atol: Tolerance<N>) -> Result<(), Error> {
+        let p = &mut self.st.params;
+        let (r, a) = transform_tolerances(&rtol, &atol, p.uround)?;
+        p.rtol = r;
+        p.atol = a;
+        let tolst = r[0];
+        p.fnewt = (10.0 * p.uround / tolst).max(0.03f64.min(tolst.powf(0.5)));
+        Ok(())
+    }
+
+    /// Explicit restart at the current t with state `y` (after an input discontinuity):
+    /// evaluates `f(t, y)`, marks J stale, forgets the Newton extrapolation, FACCON and the
+    /// Gustafsson error history (the next step is treated like the Fortran's first step);
+    /// keeps the proposed h unless `h` is given.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a non-finite `y` or non-positive `h`; [`Error::Rhs`] /
+    /// [`Error::NonFinite`] if f cannot be evaluated at the new point.
+    pub fn restart<P: Problem<N>>(
+        &mut self,
+        problem: &mut P,
+        y: SVector<f64, N>,
+        h: Option<f64>,
+    ) -> Result<(), Error> {
+        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
+            return Err(Error::InvalidOption {
+                name: "y",
+                value: *v,
+                requirement: "finite",
+            });
+        }
+        if let Some(h) = h {
+            if !(h > 0.0 && h.is_finite()) {
+                return Err(Error::InvalidOption {
+                    name: "h",
+                    value: h,
+                    requirement: "0 < h < inf",
+                });
+            }
+        }
+        let s = &mut self.st;
+        let mut f0 = SVector::zeros();
+        let r = eval(problem, s.t, &y, &mut f0);
+        s.stats.nfcn += 1;
+        Self::initial_eval_result(r, s.t, s.h_next)?;
+        s.y = y;
+        s.f0 = f0;
+        s.f0_valid = true;
+        if let Some(h) = h {
+            s.h_next = h;
+        }
+        s.first = true;
+        s.reject = false;
+        s.caljac = false;
+        s.jac_valid = false;
+        s.lu_valid = false;
+        s.prev_clipped = false;
+        s.action = Action::Jacobian;
+        s.faccon = 1.0;
+        s.theta = s.params.thet.abs();
+        s.naccpt_local = 0;
+        s.h_acc = 0.0;
+        s.err_acc = 0.0;
+        s.nsing = 0;
+        s.steps_since_stop = 0;
+        // The old collocation polynomial does not pass through the new y: output the
+        // constant y until the next step.
+        s.cont = [y, SVector::zeros(), SVector::zeros(), SVector::zeros()];
+        s.xsol = s.t;
+        s.t_prev = s.t;
+        Ok(())
+    }
+
+    /// Forward-difference or analytic Jacobian at the current point (label 10).
+    fn compute_jacobian<P: Problem<N>>(&mut self, problem: &mut P, h: f64) -> Result<(), Error> {
+        let s = &mut self.st;
+        s.stats.njac += 1;
+        let t = s.t;
+        let to_err = |e: RhsError| Error::Rhs {
+            t,
+            h,
+            message: e.message,
+        };
+        if s.params.analytic_jac && problem.jacobian(t, &s.y, &mut s.jac).map_err(to_err)? {
+            return Ok(());
+        }
+        let mut ytmp = s.y;
+        let mut ft = SVector::<f64, N>::zeros();
+        for i in 0..N {
+            let ysafe = ytmp[i];
+            let delt = (s.params.uround * 1.0e-5f64.max(ysafe.abs())).sqrt();
+            ytmp[i] = ysafe + delt;
+            problem.rhs(t, &ytmp, &mut ft).map_err(to_err)?;
+            for j in 0..N {
+                s.jac[(j, i)] = (ft[j] - s.f0[j]) / delt;
+            }
+            ytmp[i] = ysafe;
+        }
+        Ok(())
+    }
+
+    /// Builds and factorises `E1 = (gamma/h) M - J` and `E2 = ((alpha + i beta)/h) M - J`
+    /// (`DECOMR`, `DECOMC`, full matrices).
+    fn decompose(&mut self, h: f64) -> Result<(), ()> {
+        let s = &mut self.st;
+        let fac1 = self.tab.gamma / h;
+        let alphn = self.tab.alpha / h;
+        let betan = self.tab.beta / h;
+        if s.has_mass {
+            for j in 0..N {
+                for i in 0..N {
+                    let bb = s.mass[(i, j)];
+                    s.lu1.a[(i, j)] = bb * fac1 - s.jac[(i, j)];
+                    s.lu2.a[(i, j)] = Complex::new(bb * alphn - s.jac[(i, j)], bb * betan);
+                }
+            }
+        } else {
+            for j in 0..N {
+                for i in 0..N {
+                    s.lu1.a[(i, j)] = -s.jac[(i, j)];
+                    s.lu2.a[(i, j)] = Complex::new(-s.jac[(i, j)], 0.0);
+                }
+                s.lu1.a[(j, j)] += fac1;
+                let d = s.lu2.a[(j, j)];
+                s.lu2.a[(j, j)] = Complex::new(d.re + alphn, betan);
+            }
+        }
+        let r1 = s.lu1.factor();
+        if r1.is_err() {
+            s.lu_valid = false;
+            return Err(());
+        }
+        if s.lu2.factor().is_err() {
+            s.lu_valid = false;
+            return Err(());
+        }
+        s.stats.ndec += 1;
+        s.h_lu = h;
+        s.lu_valid = true;
+        Ok(())
+    }
+
+    /// One accepted step towards `t_stop`; never passes `t_stop` and lands on it exactly
+    /// when it is within reach (radau5.md §5 "the last step lands exactly on it", applied to
+    /// every stop time). When the stop time shortens a step that then succeeds without
+    /// trouble, the controller's unclipped proposal is kept for the following step, so a
+    /// sequence of tiny stop intervals costs about one step each. Returns the new t.
+    ///
+    /// # Errors
+    /// [`Error::StopTimeBehind`], [`Error::StepSizeTooSmall`], [`Error::TooManySteps`],
+    /// [`Error::SingularMatrix`], [`Error::NewtonFailure`], [`Error::NonFinite`],
+    /// [`Error::Rhs`]; the state is then that of the failed attempt (not meant to continue).
+    pub fn step<P: Problem<N>>(&mut self, problem: &mut P, t_stop: f64) -> Result<f64, Error> {
+        if t_stop.is_nan() || t_stop < self.st.t {
+            return Err(Error::StopTimeBehind {
+                t: self.st.t,
+                t_stop,
+            });
+        }
+        if t_stop == self.st.t {
+            return Ok(self.st.t);
+        }
+        let p = self.st.params;
+        let tab = self.tab;
+        let nit = p.nit;
+        let t = self.st.t;
+
+        if !self.st.f0_valid {
+            let mut f0 = SVector::zeros();
+            let r = eval(problem, t, &self.st.y, &mut f0);
+            self.st.stats.nfcn += 1;
+            Self::initial_eval_result(r, t, self.st.h_next)?;
+            self.st.f0 = f0;
+            self.st.f0_valid = true;
+        }
+
+        // ---- step-size decision (end of the accepted branch of RADCOR / initialisation)
+        let mut h;
+        let mut last;
+        let h_planned;
+        {
+            let s = &mut self.st;
+            if s.first {
+                // Initialisation: H = min(|H|, HMAXN); the last step if x + 1.0001 h >= xend.
+                h_planned = s.h_next.min(p.h_max);
+                h = h_planned.min(t_stop - t);
+                last = false;
+                if t + h * 1.0001 >= t_stop {
+                    h = t_stop - t;
+                    last = true;
+                }
+                s.action = Action::Jacobian;
+            } else {
+                let hnew = s.h_next;
+                h_planned = hnew;
+                let reuse_j = s.theta <= p.thet && s.jac_valid;
+                if t + hnew / p.quot1 >= t_stop {
+                    h = t_stop - t;
+                    last = true;
+                    // The Fortran always refactors before its last step. Between two stop
+                    // times of (nearly) the same spacing, reuse the LU pair instead.
+                    let qt = h / s.h_lu;
+                    let reuse_lu = s.prev_clipped
+                        && s.lu_valid
+                        && qt >= p.quot1 * (1.0 - 1e-6)
+                        && qt <= p.quot2;
+                    s.action = if !reuse_j {
+                        Action::Jacobian
+                    } else if reuse_lu {
+                        Action::Step
+                    } else {
+                        Action::Decompose
+                    };
+                } else {
+                    last = false;
+                    let qt = hnew / s.h_old;
+                    if reuse_j && qt >= p.quot1 && qt <= p.quot2 && s.lu_valid {
+                        h = s.h_old;
+                        s.action = Action::Step;
+                    } else {
+                        h = hnew;
+                        s.action = if reuse_j {
+                            Action::Decompose
+                        } else {
+                            Action::Jacobian
+                        };
+                    }
+                }
+            }
+            s.hhfac = h;
+            // SCAL from the current y (identical to the Fortran's recomputation after the
+            // accepted step); the index-2/3 division by HHFAC follows per attempt.
+            for i in 0..N {
+                s.scal[i] = p.atol[i] + p.rtol[i] * s.y[i].abs();
+            }
+        }
+
+        let mut n_unexpected = 0u32;
+        let mut n_rhs = 0u32;
+        let mut n_nonfinite = 0u32;
+        let cfac = p.safe * f64::from(1 + 2 * nit);
+
+        // Label 78 of RADCOR: halve h and try again (not counted as a rejection).
+        macro_rules! unexpected {
+            ($kind:expr) => {{
+                let s = &mut self.st;
+                match $kind {
+                    Failure::Singular => {
+                        s.nsing += 1;
+                        if s.nsing >= MAX_SINGULAR {
+                            return Err(Error::SingularMatrix { t, h });
+                        }
+                    }
+                    Failure::Rhs(e) => {
+                        n_rhs += 1;
+                        if n_rhs >= MAX_RHS_FAILURES {
+                            return Err(Error::Rhs {
+                                t,
+                                h,
+                                message: e.message,
+                            });
+                        }
+                    }
+                    Failure::NonFinite => {
+                        n_nonfinite += 1;
+                        if n_nonfinite >= MAX_RHS_FAILURES {
+                            return Err(Error::NonFinite { t, h });
+                        }
+                    }
+                    Failure::Newton => {}
+                }
+                n_unexpected += 1;
+                if n_unexpected >= MAX_UNEXPECTED {
+                    return Err(Error::NewtonFailure { t, h });
+                }
+                h *= 0.5;
+                s.hhfac = 0.5;
+                s.reject = true;
+                last = false;
+                s.action = if s.caljac {
+                    Action::Decompose
+                } else {
+                    Action::Jacobian
+                };
+                continue;
+            }};
+        }
+
+        loop {
+            // ---- label 10: Jacobian
+            if self.st.action == Action::Jacobian {
+                self.compute_jacobian(problem, h)?;
+                self.st.caljac = true;
+                self.st.jac_valid = true;
+                self.st.action = Action::Decompose;
+            }
+            // ---- label 20: LU pair
+            if self.st.action == Action::Decompose {
+                if self.decompose(h).is_err() {
+                    unexpected!(Failure::Singular);
+                }
+                self.st.action = Action::Step;
+            }
+            // ---- label 30: the attempt
+            let s = &mut self.st;
+            s.stats.nstep += 1;
+            s.steps_since_stop += 1;
+            if s.steps_since_stop > p.nmax {
+                return Err(Error::TooManySteps {
+                    t,
+                    h,
+                    max_steps: p.nmax,
+                });
+            }
+            if 0.1 * h.abs() <= t.abs() * p.uround {
+                return Err(Error::StepSizeTooSmall { t, h });
+            }
+            for i in p.n1..p.n1 + p.n2 {
+                s.scal[i] /= s.hhfac;
+            }
+            for i in p.n1 + p.n2..N {
+                s.scal[i] /= s.hhfac * s.hhfac;
+            }
+            let xph = if last { t_stop } else { t + h };
+            let fac1 = tab.gamma / h;
+            let alphn = tab.alpha / h;
+            let betan = tab.beta / h;
+
+            // ---- starting values for Newton
+            let mut z1 = SVector::<f64, N>::zeros();
+            let mut z2 = SVector::<f64, N>::zeros();
+            let mut z3 = SVector::<f64, N>::zeros();
+            let mut f1 = SVector::<f64, N>::zeros();
+            let mut f2 = SVector::<f64, N>::zeros();
+            let mut f3 = SVector::<f64, N>::zeros();
+            let c3q = h / s.h_old;
+            // A ratio above 1/facr never occurs in the Fortran (h_new <= h/facr); it
+            // appears here only after a step shortened by a stop time, where extrapolating
+            // the tiny step's polynomial would be wild: start from zero instead.
+            if !(s.first || p.startn || c3q > 1.0 / p.facr) {
+                let c1q = tab.c1 * c3q;
+                let c2q = tab.c2 * c3q;
+                for i in 0..N {
+                    let ak1 = s.cont[1][i];
+                    let ak2 = s.cont[2][i];
+                    let ak3 = s.cont[3][i];
+                    let z1i = c1q * (ak1 + (c1q - tab.c2m1) * (ak2 + (c1q - tab.c1m1) * ak3));
+                    let z2i = c2q * (ak1 + (c2q - tab.c2m1) * (ak2 + (c2q - tab.c1m1) * ak3));
+                    let z3i = c3q * (ak1 + (c3q - tab.c2m1) * (ak2 + (c3q - tab.c1m1) * ak3));
+                    z1[i] = z1i;
+                    z2[i] = z2i;
+                    z3[i] = z3i;
+                    f1[i] = TI[0][0] * z1i + TI[0][1] * z2i + TI[0][2] * z3i;
+                    f2[i] = TI[1][0] * z1i + TI[1][1] * z2i + TI[1][2] * z3i;
+                    f3[i] = TI[2][0] * z1i + TI[2][1] * z2i + TI[2][2] * z3i;
+                }
+            }
+
+            // ---- simplified Newton iteration (radau5.md §4)
+            let mut newt: u32 = 0;
+            s.faccon = s.faccon.max(p.uround).powf(0.8);
+            s.theta = p.thet.abs();
+            let mut cont = SVector::<f64, N>::zeros();
+            let mut a1 = SVector::<f64, N>::zeros();
+            let mut a2 = SVector::<f64, N>::zeros();
+            let mut a3 = SVector::<f64, N>::zeros();
+            let newton: Result<(), Option<Failure>> = 'newton: loop {
+                if newt >= nit {
+                    break 'newton Err(Some(Failure::Newton));
+                }
+                cont.copy_from(&s.y);
+                cont += &z1;
+                if let Err(e) = eval(problem, t + tab.c1 * h, &cont, &mut a1) {
+                    break 'newton Err(Some(e));
+                }
+                cont.copy_from(&s.y);
+                cont += &z2;
+                if let Err(e) = eval(problem, t + tab.c2 * h, &cont, &mut a2) {
+                    break 'newton Err(Some(e));
+                }
+                cont.copy_from(&s.y);
+                cont += &z3;
+                if let Err(e) = eval(problem, xph, &cont, &mut a3) {
+                    break 'newton Err(Some(e));
+                }
+                s.stats.nfcn += 3;
+                for i in 0..N {
+                    let (x1, x2, x3) = (a1[i], a2[i], a3[i]);
+                    z1[i] = TI[0][0] * x1 + TI[0][1] * x2 + TI[0][2] * x3;
+                    z2[i] = TI[1][0] * x1 + TI[1][1] * x2 + TI[1][2] * x3;
+                    z3[i] = TI[2][0] * x1 + TI[2][1] * x2 + TI[2][2] * x3;
+                }
+                // SLVRAD
+                if s.has_mass {
+                    for i in 0..N {
+                        let (mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0);
+                        for j in 0..N {
+                            let bb = s.mass[(i, j)];
+                            s1 -= bb * f1[j];
+                            s2 -= bb * f2[j];
+                            s3 -= bb * f3[j];
+                        }
+                        z1[i] += s1 * fac1;
+                        z2[i] = z2[i] + s2 * alphn - s3 * betan;
+                        z3[i] = z3[i] + s3 * alphn + s2 * betan;
+                    }
+                } else {
+                    for i in 0..N {
+                        let s2 = -f2[i];
+                        let s3 = -f3[i];
+                        z1[i] -= f1[i] * fac1;
+                        z2[i] = z2[i] + s2 * alphn - s3 * betan;
+                        z3[i] = z3[i] + s3 * alphn + s2 * betan;
+                    }
+                }
+                s.lu1.solve(&mut z1);
+                s.lu2.solve(&mut z2, &mut z3);
+                s.stats.nsol += 1;
+                newt += 1;
+                let mut dyno = 0.0;
+                for i in 0..N {
+                    let denom = s.scal[i];
+                    let q1 = z1[i] / denom;
+                    let q2 = z2[i] / denom;
+                    let q3 = z3[i] / denom;
+                    dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
+                }
+                dyno = (dyno / (3 * N) as f64).sqrt();
+                if !dyno.is_finite() {
+                    break 'newton Err(Some(Failure::NonFinite));
+                }
+                if newt > 1 && newt < nit {
+                    let thq = dyno / s.dynold;
+                    if newt == 2 {
+                        s.theta = thq;
+                    } else {
+                        s.theta = (thq * s.thqold).sqrt();
+                    }
+                    s.thqold = thq;
+                    if s.theta < 0.99 {
+                        s.faccon = s.theta / (1.0 - s.theta);
+                        let dyth =
+                            s.faccon * dyno * s.theta.powi((nit - 1 - newt) as i32) / p.fnewt;
+                        if dyth >= 1.0 {
+                            // Predicted non-convergence: restart with a smaller h (not a
+                            // rejection).
+                            let qnewt = 1.0e-4f64.max(20.0f64.min(dyth));
+                            s.hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + f64::from(nit) - 1.0 - f64::from(newt)));
+                            break 'newton Err(None);
+                        }
+                    } else {
+                        break 'newton Err(Some(Failure::Newton));
+                    }
+                }
+                s.dynold = dyno.max(p.uround);
+                for i in 0..N {
+                    let f1i = f1[i] + z1[i];
+                    let f2i = f2[i] + z2[i];
+                    let f3i = f3[i] + z3[i];
+                    f1[i] = f1i;
+                    f2[i] = f2i;
+                    f3[i] = f3i;
+                    z1[i] = T[0][0] * f1i + T[0][1] * f2i + T[0][2] * f3i;
+                    z2[i] = T[1][0] * f1i + T[1][1] * f2i + T[1][2] * f3i;
+                    z3[i] = T[2][0] * f1i + f2i;
+                }
+                if s.faccon * dyno <= p.fnewt {
+                    break 'newton Ok(());
+                }
+            };
+            match newton {
+                Ok(()) => {}
+                Err(Some(kind)) => unexpected!(kind),
+                Err(None) => {
+                    h *= s.hhfac;
+                    s.reject = true;
+                    last = false;
+                    s.action = if s.caljac {
+                        Action::Decompose
+                    } else {
+                        Action::Jacobian
+                    };
+                    continue;
+                }
+            }
+
+            // ---- error estimate (ESTRAD, radau5.md §5)
+            let hee1 = tab.dd1 / h;
+            let hee2 = tab.dd2 / h;
+            let hee3 = tab.dd3 / h;
+            let mut fm = SVector::<f64, N>::zeros(); // Fortran F2: M (d1 Z1 + d2 Z2 + d3 Z3)/h
+            if s.has_mass {
+                let mut fz = SVector::<f64, N>::zeros();
+                for i in 0..N {
+                    fz[i] = hee1 * z1[i] + hee2 * z2[i] + hee3 * z3[i];
+                }
+                for i in 0..N {
+                    let mut sum = 0.0;
+                    for j in 0..N {
+                        sum += s.mass[(i, j)] * fz[j];
+                    }
+                    fm[i] = sum;
+                    cont[i] = sum + s.f0[i];
+                }
+            } else {
+                for i in 0..N {
+                    fm[i] = hee1 * z1[i] + hee2 * z2[i] + hee3 * z3[i];
+                    cont[i] = fm[i] + s.f0[i];
+                }
+            }
+            s.lu1.solve(&mut cont);
+            let mut err = Self::scaled_rms(&cont, &s.scal);
+            if !(err < 1.0) && (s.first || s.reject) {
+                a1.copy_from(&s.y);
+                a1 += &cont;
+                let r = eval(problem, t, &a1, &mut a2);
+                s.stats.nfcn += 1;
+                if let Err(kind) = r {
+                    unexpected!(kind);
+                }
+                for i in 0..N {
+                    cont[i] = a2[i] + fm[i];
+                }
+                s.lu1.solve(&mut cont);
+                err = Self::scaled_rms(&cont, &s.scal);
+            }
+            if err.is_nan() {
+                unexpected!(Failure::NonFinite);
+            }
+
+            // ---- new step size; 0.2 <= h_new/h <= 8
+            let fac = p.safe.min(cfac / f64::from(newt + 2 * nit));
+            let mut quot = p.facr.max(p.facl.min(err.powf(0.25) / fac));
+            let mut hnew = h / quot;
+
+            if err < 1.0 {
+                // ---- accepted. f at the new point first (the Fortran does this after
+                // committing; doing it before lets a failing f shrink h instead).
+                let mut ynew = s.y;
+                ynew += &z3;
+                let mut fnew = SVector::<f64, N>::zeros();
+                if !last {
+                    let r = eval(problem, xph, &ynew, &mut fnew);
+                    s.stats.nfcn += 1;
+                    if let Err(kind) = r {
+                        unexpected!(kind);
+                    }
+                }
+                s.first = false;
+                s.stats.naccpt += 1;
+                s.naccpt_local += 1;
+                let clipped = last && h < h_planned;
+                let clean_clip = clipped && !s.reject;
+                if p.pred && !clean_clip {
+                    // Predictive controller of Gustafsson
+                    if s.naccpt_local > 1 {
+                        let mut facgus =
+                            (s.h_acc / h) * (err * err / s.err_acc).powf(0.25) / p.safe;
+                        facgus = p.facr.max(p.facl.min(facgus));
+                        quot = quot.max(facgus);
+                        hnew = h / quot;
+                    }
+                    s.h_acc = h;
+                    s.err_acc = 1.0e-2f64.max(err);
+                }
+                s.t_prev = t;
+                s.h_old = h;
+                s.t = xph;
+                s.y = ynew;
+                for i in 0..N {
+                    let z1i = z1[i];
+                    let z2i = z2[i];
+                    s.cont[1][i] = (z2i - z3[i]) / tab.c2m1;
+                    let ak = (z1i - z2i) / tab.c1mc2;
+                    let mut acont3 = z1i / tab.c1;
+                    acont3 = (ak - acont3) / tab.c2;
+                    s.cont[2][i] = (ak - s.cont[1][i]) / tab.c1m1;
+                    s.cont[3][i] = s.cont[2][i] - acont3;
+                }
+                s.cont[0] = s.y;
+                s.xsol = s.t;
+                s.hsol = h;
+                s.caljac = false;
+                if last {
+                    s.f0_valid = false;
+                } else {
+                    s.f0 = fnew;
+                    s.f0_valid = true;
+                }
+                hnew = hnew.min(p.h_max);
+                if s.reject {
+                    hnew = hnew.min(h);
+                }
+                s.reject = false;
+                s.h_next = if clean_clip && hnew >= h {
+                    hnew.max(h_planned)
+                } else {
+                    hnew
+                };
+                s.prev_clipped = last;
+                s.nsing = 0;
+                if last {
+                    s.steps_since_stop = 0;
+                }
+                return Ok(s.t);
+            }
+            // ---- rejected
+            s.reject = true;
+            last = false;
+            if s.first {
+                h *= 0.1;
+                s.hhfac = 0.1;
+            } else {
+                s.hhfac = hnew / h;
+                h = hnew;
+            }
+            if s.stats.naccpt >= 1 {
+                s.stats.nrejct += 1;
+            }
+            s.action = if s.caljac {
+                Action::Decompose
+            } else {
+                Action::Jacobian
+            };
+        }
+    }
+
+    /// `max(sqrt(sum (e_i/sc_i)^2 / N), 1e-10)` in the Fortran's summation order.
+    #[inline]
+    fn scaled_rms(e: &SVector<f64, N>, scal: &SVector<f64, N>) -> f64 {
+        let mut err = 0.0;
+        for i in 0..N {
+            let q = e[i] / scal[i];
+            err += q * q;
+        }
+        (err / N as f64).sqrt().max(1.0e-10)
+    }
+
+    /// Value of the collocation polynomial of the last accepted step at `t`
+    /// (`CONTR5`, radau5.md §6); meant for `t` in `[t_prev, t]`.
+    pub fn dense_output(&self, t: f64, y: &mut SVector<f64, N>) {
+        let s = &self.st;
+        let c2m1 = self.tab.c2m1;
+        let c1m1 = self.tab.c1m1;
+        let x = (t - s.xsol) / s.hsol;
+        for i in 0..N {
+            y[i] = s.cont[0][i]
+                + x * (s.cont[1][i] + (x - c2m1) * (s.cont[2][i] + (x - c1m1) * s.cont[3][i]));
+        }
+    }
+
+    /// First derivative in t of the collocation polynomial of the last accepted step.
+    pub fn dense_derivative(&self, t: f64, dy: &mut SVector<f64, N>) {
+        let s = &self.st;
+        let c2m1 = self.tab.c2m1;
+        let c1m1 = self.tab.c1m1;
+        let x = (t - s.xsol) / s.hsol;
+        let a = x - c2m1;
+        let b = x - c1m1;
+        for i in 0..N {
+            let (c1, c2, c3) = (s.cont[1][i], s.cont[2][i], s.cont[3][i]);
+            let inner = c2 + b * c3;
+            let du = c1 + a * inner + x * (inner + a * c3);
+            dy[i] = du / s.hsol;
+        }
+    }
+}

@@ -1,0 +1,668 @@
+//! f(t, y), mass matrix, Jacobian, consistent initial values and outputs of the DAE
+//! (`model.md` §5-§8).
+
+use super::params::{check_d_phi, check_mu};
+use super::{idx, Inputs, ModelError, Outputs, Params, NY};
+use crate::gear::{FrictionSums, Kinematics, Mesh, MeshError, PairGeometry, ParamError};
+use nalgebra::{SMatrix, SVector, Vector3};
+use std::f64::consts::PI;
+
+/// Start state for [`GearedRotor::initialize_with`] (`model.md` §7).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct InitialConditions {
+    /// Displacements u1x u1y u1z u2x u2y u2z.
+    pub u: [f64; 6],
+    /// Their velocities.
+    pub u_dot: [f64; 6],
+    /// Initial angle of gear 1.
+    pub phi1: f64,
+}
+
+/// The geared-rotor DAE (`model.md` §5) with its parameters, held inputs and gap offset.
+#[derive(Debug, Clone)]
+pub struct GearedRotor {
+    params: Params,
+    geom: PairGeometry,
+    inputs: Inputs,
+    /// Gap offset g0 (§3.3): g = 0 at the initial state.
+    g0: f64,
+    /// phi1 at initialisation (reference of xi and TE).
+    phi1_0: f64,
+    /// diag(M), diag(D), diag(K) of §5 in the order of q.
+    mass: [f64; 7],
+    damp: [f64; 7],
+    stiff: [f64; 7],
+    /// Filter corner w_c = 2 pi f_c (§8).
+    wc: f64,
+}
+
+fn mesh_err(t: f64, e: MeshError) -> ModelError {
+    match e {
+        MeshError::CentreDistanceTooSmall { a, r_sum } => {
+            ModelError::CentreDistanceTooSmall { t, a, r_sum }
+        }
+        MeshError::NonFinite => ModelError::NonFinite {
+            t,
+            what: "displacement",
+        },
+    }
+}
+
+#[inline]
+fn kinematics(y: &SVector<f64, NY>) -> Kinematics {
+    let v = idx::V;
+    Kinematics {
+        v1: Vector3::new(y[v], y[v + 1], y[v + 2]),
+        v2: Vector3::new(y[v + 3], y[v + 4], y[v + 5]),
+        omega1: y[idx::OMEGA1],
+        omega2: y[v + 6],
+    }
+}
+
+impl GearedRotor {
+    /// Validates the parameters and builds the model; inputs start at zero, g0 = 0.
+    ///
+    /// # Errors
+    /// The first violated parameter bound.
+    pub fn new(params: Params) -> Result<Self, ParamError> {
+        let geom = params.validate()?;
+        let (r1, r2) = (params.rotor1, params.rotor2);
+        Ok(Self {
+            params,
+            geom,
+            inputs: Inputs::default(),
+            g0: 0.0,
+            phi1_0: 0.0,
+            mass: [r1.m, r1.m, r1.m, r2.m, r2.m, r2.m, r2.j],
+            damp: [
+                r1.d[0],
+                r1.d[1],
+                r1.d[2],
+                r2.d[0],
+                r2.d[1],
+                r2.d[2],
+                params.d_phi,
+            ],
+            stiff: [r1.k[0], r1.k[1], r1.k[2], r2.k[0], r2.k[1], r2.k[2], 0.0],
+            wc: 2.0 * PI * params.omega1_filter_hz,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The pair geometry (§2).
+    pub fn geometry(&self) -> &PairGeometry {
+        &self.geom
+    }
+
+    /// Changes mu (tunable).
+    ///
+    /// # Errors
+    /// mu negative or not finite.
+    pub fn set_mu(&mut self, mu: f64) -> Result<(), ParamError> {
+        check_mu(mu)?;
+        self.params.mu = mu;
+        Ok(())
+    }
+
+    /// Changes the rotational damper d_phi (tunable).
+    ///
+    /// # Errors
+    /// d_phi negative or not finite.
+    pub fn set_d_phi(&mut self, d: f64) -> Result<(), ParamError> {
+        check_d_phi(d)?;
+        self.params.d_phi = d;
+        self.damp[6] = d;
+        Ok(())
+    }
+
+    /// Sets the held inputs.
+    pub fn set_inputs(&mut self, inputs: Inputs) {
+        self.inputs = inputs;
+    }
+
+    /// The held inputs.
+    pub fn inputs(&self) -> &Inputs {
+        &self.inputs
+    }
+
+    /// Gap offset g0 (§3.3), set by the initialisation.
+    pub fn gap_offset(&self) -> f64 {
+        self.g0
+    }
+
+    /// Mesh of the displaced state y.
+    ///
+    /// # Errors
+    /// Centre distance too small or non-finite displacements.
+    pub fn mesh(&self, t: f64, y: &SVector<f64, NY>) -> Result<Mesh, ModelError> {
+        let u1 = Vector3::new(y[0], y[1], y[2]);
+        let u2 = Vector3::new(y[3], y[4], y[5]);
+        self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))
+    }
+
+    /// Friction sums (per unit line pressure) of the state y (§4).
+    ///
+    /// # Errors
+    /// See [`GearedRotor::mesh`]; [`ModelError::NoContact`] when l = 0.
+    pub fn friction_sums(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+    ) -> Result<FrictionSums, ModelError> {
+        let s = self.geom.friction_sums(
+            m,
+            y[idx::PHI1],
+            self.params.psi0,
+            &kinematics(y),
+            self.params.friction_law,
+        );
+        if !(s.contact.length > 0.0) {
+            return Err(ModelError::NoContact { t });
+        }
+        Ok(s)
+    }
+
+    /// Right-hand side f(t, y) of `M_ext y' = f` (`model.md` §5, §8, API.md energy states).
+    /// No heap allocation.
+    ///
+    /// # Errors
+    /// Centre distance too small, no contact, or a non-finite result.
+    pub fn rhs(
+        &mut self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        f: &mut SVector<f64, NY>,
+    ) -> Result<(), ModelError> {
+        self.eval_rhs(t, y, f)
+    }
+
+    fn eval_rhs(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        f: &mut SVector<f64, NY>,
+    ) -> Result<(), ModelError> {
+        let g = &self.geom;
+        let m = self.mesh(t, y)?;
+        let sums = self.friction_sums(t, y, &m)?;
+        let lam = y[idx::LAMBDA];
+        let fr = sums.resultants(self.params.mu, lam);
+        let grow = g.constraint_row(&m);
+        let v = idx::V;
+        let omega1 = y[idx::OMEGA1];
+        let omega1_dot = y[idx::OMEGA1_DOT];
+        let omega2 = y[v + 6];
+        let t_load = self.inputs.t_load_at(t);
+        let qf = [
+            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
+        ];
+        let mut p_damp = 0.0;
+        let mut gv = 0.0;
+        for i in 0..6 {
+            f[i] = y[v + i];
+        }
+        // xi' = r_b2 omega2 - r_b1 omega1 (idx::Q doc).
+        f[6] = g.rb2 * omega2 - g.rb1 * omega1;
+        for i in 0..7 {
+            let vi = y[v + i];
+            f[v + i] = -self.damp[i] * vi - self.stiff[i] * y[i] + lam * grow[i] + qf[i];
+            p_damp += self.damp[i] * vi * vi;
+            gv += grow[i] * vi;
+        }
+        f[v + 6] -= t_load;
+        // Drive filter (§8): critically damped, phi1' = omega1.
+        let wc = self.wc;
+        f[idx::PHI1] = omega1;
+        f[idx::OMEGA1] = omega1_dot;
+        f[idx::OMEGA1_DOT] = wc * wc * (self.inputs.omega1_at(t) - omega1) - 2.0 * wc * omega1_dot;
+        // Energy accumulators (§6, §9.6).
+        let t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;
+        f[idx::E_IN] = t1 * omega1;
+        f[idx::E_LOSS] = fr.p_loss;
+        f[idx::E_DAMP] = p_damp;
+        f[idx::E_LOAD] = t_load * omega2;
+        // Velocity-level constraint (§3.3).
+        f[idx::LAMBDA] = gv - g.rb1 * g.cos_beta_b * omega1;
+        if !f.iter().all(|x| x.is_finite()) {
+            return Err(ModelError::NonFinite { t, what: "f" });
+        }
+        Ok(())
+    }
+
+    /// `M_ext = diag(I7, M, 1 (phi1), 1, 1 (filter), 1, 1, 1, 1 (energies), 0 (lambda))`.
+    pub fn mass(&self) -> SMatrix<f64, NY, NY> {
+        let mut m = SMatrix::<f64, NY, NY>::identity();
+        for i in 0..7 {
+            m[(idx::V + i, idx::V + i)] = self.mass[i];
+        }
+        m[(idx::LAMBDA, idx::LAMBDA)] = 0.0;
+        m
+    }
+
+    /// Jacobian df/dy. The linear parts, the constraint row G(q) and its q-derivative and
+    /// the lambda column are analytic; the derivatives of the friction resultants with
+    /// respect to q, v, phi1 and omega1 are one-sided differences of the friction
+    /// evaluation alone (15 evaluations, cheaper than 22 full f). Returns false (caller
+    /// falls back to finite differences of f) when the state cannot be evaluated.
+    pub fn jacobian(
+        &mut self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        jac: &mut SMatrix<f64, NY, NY>,
+    ) -> bool {
+        self.eval_jacobian(t, y, jac).is_ok()
+    }
+
+    fn eval_jacobian(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        jac: &mut SMatrix<f64, NY, NY>,
+    ) -> Result<(), ModelError> {
+        let g = &self.geom;
+        let (v, lam_i) = (idx::V, idx::LAMBDA);
+        let m = self.mesh(t, y)?;
+        let sums = self.friction_sums(t, y, &m)?;
+        let lam = y[lam_i];
+        let mu = self.params.mu;
+        let fr = sums.resultants(mu, lam);
+        let grow = g.constraint_row(&m);
+        let (cb, rb1, rb2) = (g.cos_beta_b, g.rb1, g.rb2);
+        let omega1 = y[idx::OMEGA1];
+        let omega1_dot = y[idx::OMEGA1_DOT];
+        let omega2 = y[v + 6];
+        let t_load = self.inputs.t_load_at(t);
+        let j1 = self.params.rotor1.j;
+        jac.fill(0.0);
+        // q' = v, xi' = r_b2 omega2 - r_b1 omega1.
+        for i in 0..6 {
+            jac[(i, v + i)] = 1.0;
+        }
+        jac[(6, v + 6)] = rb2;
+        jac[(6, idx::OMEGA1)] = -rb1;
+        // Linear force parts and lambda G^T.
+        for i in 0..7 {
+            jac[(v + i, v + i)] = -self.damp[i];
+            jac[(v + i, i)] = -self.stiff[i];
+            jac[(v + i, lam_i)] = grow[i];
+            jac[(lam_i, v + i)] = grow[i];
+        }
+        // dG/dq: G_xy(u2) = cos beta_b t(psi) = -G_xy(u1), psi = theta - alpha(a),
+        // dt/dpsi = -e_w, dpsi/dd = (-sin th, cos th)/a - R/(a^2 sin alpha) (cos th, sin th).
+        let d = m.c2 - m.c1;
+        let (cth, sth) = (d.x / m.a, d.y / m.a);
+        let k_al = g.r_sum / (m.a * m.a * m.alpha.sin());
+        let dpsi = [-sth / m.a - k_al * cth, cth / m.a - k_al * sth];
+        let ew = [m.e_w.x, m.e_w.y];
+        let dv = [y[v + 3] - y[v], y[v + 4] - y[v + 1]];
+        let ew_dv = ew[0] * dv[0] + ew[1] * dv[1];
+        for (jj, &dp) in dpsi.iter().enumerate() {
+            // column u2_j (and -column for u1_j): dn_xy/du2_j = -cb e_w dpsi_j.
+            for comp in 0..2 {
+                let dn = -cb * ew[comp] * dp;
+                // rows of u1 (G = -n) and u2 (G = +n)
+                jac[(v + comp, 3 + jj)] += -lam * dn;
+                jac[(v + comp, jj)] += lam * dn;
+                jac[(v + 3 + comp, 3 + jj)] += lam * dn;
+                jac[(v + 3 + comp, jj)] += -lam * dn;
+            }
+            let dgv = -cb * ew_dv * dp;
+            jac[(lam_i, 3 + jj)] += dgv;
+            jac[(lam_i, jj)] -= dgv;
+        }
+        jac[(lam_i, idx::OMEGA1)] = -rb1 * cb;
+        // Drive filter.
+        let wc = self.wc;
+        jac[(idx::PHI1, idx::OMEGA1)] = 1.0;
+        jac[(idx::OMEGA1, idx::OMEGA1_DOT)] = 1.0;
+        jac[(idx::OMEGA1_DOT, idx::OMEGA1)] = -wc * wc;
+        jac[(idx::OMEGA1_DOT, idx::OMEGA1_DOT)] = -2.0 * wc;
+        // Energies, linear parts: E_in' = (lambda r_b1 cb - M1_z + J1 omega1') omega1.
+        let t1 = lam * rb1 * cb - fr.m1.z + j1 * omega1_dot;
+        jac[(idx::E_IN, lam_i)] = rb1 * cb * omega1;
+        jac[(idx::E_IN, idx::OMEGA1_DOT)] = j1 * omega1;
+        jac[(idx::E_IN, idx::OMEGA1)] = t1;
+        for i in 0..7 {
+            jac[(idx::E_DAMP, v + i)] = 2.0 * self.damp[i] * y[v + i];
+        }
+        jac[(idx::E_LOAD, v + 6)] = t_load;
+        // Friction: exactly linear in |lambda|.
+        let sgn = if lam > 0.0 {
+            1.0
+        } else if lam < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        let l = sums.contact.length;
+        let pu = mu / l; // d p / d|lambda|
+        let gu = sums.generalised_unit();
+        for i in 0..7 {
+            jac[(v + i, lam_i)] += sgn * pu * gu[i];
+        }
+        jac[(idx::E_IN, lam_i)] += -sgn * pu * sums.moment1.z * omega1;
+        jac[(idx::E_LOSS, lam_i)] = sgn * pu * sums.w;
+        // Friction derivatives by one-sided differences of the friction evaluation only.
+        let base = [
+            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
+        ];
+        let cols: [usize; 15] = [
+            0,
+            1,
+            2,
+            3,
+            4,
+            5,
+            v,
+            v + 1,
+            v + 2,
+            v + 3,
+            v + 4,
+            v + 5,
+            v + 6,
+            idx::PHI1,
+            idx::OMEGA1,
+        ];
+        let mut yp = *y;
+        for &j in cols.iter() {
+            let yj = y[j];
+            let scale = if j < 6 {
+                1e-6
+            } else if j == idx::PHI1 {
+                1e-3
+            } else if j == idx::OMEGA1 || j == v + 6 {
+                1.0
+            } else {
+                1e-3
+            };
+            let h = (f64::EPSILON.sqrt() * yj.abs().max(scale)).max(1e-300);
+            yp[j] = yj + h;
+            let h = yp[j] - yj;
+            let mp = if j < 6 { self.mesh(t, &yp)? } else { m };
+            let sp = self.friction_sums(t, &yp, &mp)?;
+            let frp = sp.resultants(mu, lam);
+            let pert = [
+                frp.f1.x, frp.f1.y, frp.f1.z, frp.f2.x, frp.f2.y, frp.f2.z, -frp.m2.z,
+            ];
+            for i in 0..7 {
+                jac[(v + i, j)] += (pert[i] - base[i]) / h;
+            }
+            jac[(idx::E_IN, j)] += -(frp.m1.z - fr.m1.z) / h * omega1;
+            jac[(idx::E_LOSS, j)] += (frp.p_loss - fr.p_loss) / h;
+            yp[j] = yj;
+        }
+        let _ = omega2;
+        Ok(())
+    }
+
+    /// lambda from the hidden constraint in closed form (`model.md` §7).
+    ///
+    /// Differentiating `G(q) v - r_b1 cos beta_b omega1 = 0` with `M v' = F + lambda G^T
+    /// + |lambda| Phi` (F: damping, springs, load; Phi: friction per unit |lambda|, fixed
+    /// for fixed kinematics) gives `lambda A + |lambda| B = r` with `A = G M^-1 G^T`,
+    /// `B = G M^-1 Phi`, `r = r_b1 cos beta_b omega1' - G' v - G M^-1 F`. Solving under
+    /// each sign assumption and keeping the consistent one needs no iteration.
+    ///
+    /// # Errors
+    /// Mesh/contact errors; [`ModelError::InconsistentLambda`] when not exactly one
+    /// assumption is consistent (|B| >= A, friction-induced ambiguity).
+    pub fn consistent_lambda(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, ModelError> {
+        let g = &self.geom;
+        let m = self.mesh(t, y)?;
+        let sums = self.friction_sums(t, y, &m)?;
+        let grow = g.constraint_row(&m);
+        let kin = kinematics(y);
+        let pu = self.params.mu / sums.contact.length;
+        let gu = sums.generalised_unit();
+        let v = idx::V;
+        let t_load = self.inputs.t_load_at(t);
+        let (mut a, mut b, mut r) = (0.0, 0.0, 0.0);
+        for i in 0..7 {
+            let mut force = -self.damp[i] * y[v + i] - self.stiff[i] * y[i];
+            if i == 6 {
+                force -= t_load;
+            }
+            a += grow[i] * grow[i] / self.mass[i];
+            b += grow[i] * pu * gu[i] / self.mass[i];
+            r -= grow[i] * force / self.mass[i];
+        }
+        r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(&m, &kin);
+        let lp = r / (a + b);
+        let ln = r / (a - b);
+        let pos_ok = a + b > 0.0 && lp >= 0.0;
+        let neg_ok = a - b > 0.0 && ln < 0.0;
+        match (pos_ok, neg_ok) {
+            (true, false) => Ok(lp),
+            (false, true) => Ok(ln),
+            _ => {
+                if r == 0.0 {
+                    Ok(0.0)
+                } else {
+                    Err(ModelError::InconsistentLambda {
+                        t,
+                        lambda_pos: lp,
+                        lambda_neg: ln,
+                    })
+                }
+            }
+        }
+    }
+
+    /// Consistent initial state for zero displacements and velocities (`model.md` §7).
+    ///
+    /// # Errors
+    /// See [`GearedRotor::initialize_with`].
+    pub fn initialize(&mut self, t0: f64) -> Result<SVector<f64, NY>, ModelError> {
+        self.initialize_with(t0, &InitialConditions::default())
+    }
+
+    /// Consistent initial state at t0 for given displacements, velocities and phi1
+    /// (`model.md` §7, §8): omega1 = omega1_ref(t0), omega1' = 0, omega2 from the constraint,
+    /// xi = 0, energies 0, lambda in closed form; sets g0 so that g(t0) = 0.
+    ///
+    /// # Errors
+    /// Mesh/contact errors or an inconsistent lambda.
+    pub fn initialize_with(
+        &mut self,
+        t0: f64,
+        ic: &InitialConditions,
+    ) -> Result<SVector<f64, NY>, ModelError> {
+        let g = self.geom;
+        let mut y = SVector::<f64, NY>::zeros();
+        for i in 0..6 {
+            y[i] = ic.u[i];
+            y[idx::V + i] = ic.u_dot[i];
+        }
+        let omega1 = self.inputs.omega1_at(t0);
+        y[idx::PHI1] = ic.phi1;
+        y[idx::OMEGA1] = omega1;
+        y[idx::OMEGA1_DOT] = 0.0;
+        if !y.iter().all(|x| x.is_finite()) {
+            return Err(ModelError::NonFinite {
+                t: t0,
+                what: "initial state",
+            });
+        }
+        let m = self.mesh(t0, &y)?;
+        let grow = g.constraint_row(&m);
+        let mut gv = 0.0;
+        for i in 0..6 {
+            gv += grow[i] * ic.u_dot[i];
+        }
+        y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
+        y[idx::LAMBDA] = self.consistent_lambda(t0, &y)?;
+        self.g0 = -g.gap_raw(&m, 0.0);
+        self.phi1_0 = ic.phi1;
+        Ok(y)
+    }
+
+    /// Rigid-rotation kinematic state at t: no displacement, omega1 = omega1_ref(t)
+    /// (filter at rest), omega2 = omega1 r_b1 / r_b2, xi = 0, energies 0, lambda consistent.
+    /// Does not change g0.
+    ///
+    /// # Errors
+    /// Mesh/contact errors or an inconsistent lambda.
+    pub fn rigid_rotation_state(&self, t: f64, phi1: f64) -> Result<SVector<f64, NY>, ModelError> {
+        let g = &self.geom;
+        let mut y = SVector::<f64, NY>::zeros();
+        let omega1 = self.inputs.omega1_at(t);
+        y[idx::PHI1] = phi1;
+        y[idx::OMEGA1] = omega1;
+        y[idx::V + 6] = omega1 * g.rb1 / g.rb2;
+        y[idx::LAMBDA] = self.consistent_lambda(t, &y)?;
+        Ok(y)
+    }
+
+    /// Frictionless static equilibrium for the inputs at t (`model.md` §7, §9.5): constant
+    /// omega1, omega2 = omega1 r_b1 / r_b2, `lambda = (d_phi omega2 + T_load)/(r_b2 cos beta_b)`
+    /// and `K u = lambda G_u^T(u)` solved by fixed-point iteration (G depends on u only
+    /// through the small rotation of the line of action, so it contracts fast).
+    /// Returns the initial conditions (u, u' = 0) and lambda. A start near the periodic orbit.
+    ///
+    /// # Errors
+    /// A zero stiffness on an axis the normal force loads, or no convergence.
+    pub fn static_equilibrium(
+        &self,
+        t: f64,
+        phi1: f64,
+    ) -> Result<(InitialConditions, f64), ModelError> {
+        let g = &self.geom;
+        let omega1 = self.inputs.omega1_at(t);
+        let omega2 = omega1 * g.rb1 / g.rb2;
+        let lam = (self.params.d_phi * omega2 + self.inputs.t_load_at(t)) / (g.rb2 * g.cos_beta_b);
+        let mut u = [0.0f64; 6];
+        for _ in 0..50 {
+            let u1 = Vector3::new(u[0], u[1], u[2]);
+            let u2 = Vector3::new(u[3], u[4], u[5]);
+            let m = g.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))?;
+            let grow = g.constraint_row(&m);
+            let mut change: f64 = 0.0;
+            for i in 0..6 {
+                let load = lam * grow[i];
+                let ui = if self.stiff[i] > 0.0 {
+                    load / self.stiff[i]
+                } else if load == 0.0 {
+                    0.0
+                } else {
+                    return Err(ModelError::NoStaticEquilibrium {
+                        reason: "zero bearing stiffness on a loaded axis",
+                    });
+                };
+                change = change.max((ui - u[i]).abs());
+                u[i] = ui;
+            }
+            if change <= 1e-15 * g.a_w {
+                return Ok((
+                    InitialConditions {
+                        u,
+                        u_dot: [0.0; 6],
+                        phi1,
+                    },
+                    lam,
+                ));
+            }
+        }
+        Err(ModelError::NoStaticEquilibrium {
+            reason: "fixed-point iteration did not converge",
+        })
+    }
+
+    /// Every output of `model.md` §6 from the state and the inputs at t. When the mesh
+    /// cannot be evaluated the contact quantities are NaN.
+    pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
+        let g = &self.geom;
+        let v = idx::V;
+        let mut o = Outputs::default();
+        let omega1 = y[idx::OMEGA1];
+        let omega1_dot = y[idx::OMEGA1_DOT];
+        let omega2 = y[v + 6];
+        let lam = y[idx::LAMBDA];
+        o.omega1 = omega1;
+        o.omega1_dot = omega1_dot;
+        o.phi1 = y[idx::PHI1];
+        o.omega2 = omega2;
+        o.te = y[6];
+        o.phi2 = (y[6] + g.rb1 * (y[idx::PHI1] - self.phi1_0)) / g.rb2;
+        o.fn_ = lam;
+        o.contact_lost = lam < 0.0;
+        o.e_in = y[idx::E_IN];
+        o.e_loss = y[idx::E_LOSS];
+        o.e_damp = y[idx::E_DAMP];
+        o.e_load = y[idx::E_LOAD];
+        let mut e_kin = 0.5 * self.params.rotor1.j * omega1 * omega1;
+        let mut e_pot = 0.0;
+        let mut p_damp = 0.0;
+        for i in 0..7 {
+            e_kin += 0.5 * self.mass[i] * y[v + i] * y[v + i];
+            e_pot += 0.5 * self.stiff[i] * y[i] * y[i];
+            p_damp += self.damp[i] * y[v + i] * y[v + i];
+        }
+        o.e_kin = e_kin;
+        o.e_pot = e_pot;
+        o.p_damp = p_damp;
+        for i in 0..3 {
+            o.u1[i] = y[i];
+            o.u2[i] = y[3 + i];
+            o.v1[i] = y[v + i];
+            o.v2[i] = y[v + 3 + i];
+            o.f_bearing1[i] = self.stiff[i] * y[i] + self.damp[i] * y[v + i];
+            o.f_bearing2[i] = self.stiff[3 + i] * y[3 + i] + self.damp[3 + i] * y[v + 3 + i];
+        }
+        let res = self
+            .mesh(t, y)
+            .and_then(|m| self.friction_sums(t, y, &m).map(|s| (m, s)));
+        let (m, sums) = match res {
+            Ok(x) => x,
+            Err(_) => {
+                let nan = f64::NAN;
+                o.t1 = nan;
+                o.p_in = nan;
+                o.p_loss = nan;
+                o.gap = nan;
+                o.contact_length = if matches!(res, Err(ModelError::NoContact { .. })) {
+                    0.0
+                } else {
+                    nan
+                };
+                let n3 = [nan; 3];
+                o.f_friction1 = n3;
+                o.f_friction2 = n3;
+                o.m_friction1 = n3;
+                o.m_friction2 = n3;
+                o.f_contact1 = n3;
+                o.f_contact2 = n3;
+                o.m_contact1 = n3;
+                o.m_contact2 = n3;
+                return o;
+            }
+        };
+        let fr = sums.resultants(self.params.mu, lam);
+        o.t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;
+        o.p_in = o.t1 * omega1;
+        o.p_loss = fr.p_loss;
+        o.gap = g.gap_raw(&m, y[6]) + self.g0;
+        o.contact_length = sums.contact.length;
+        o.pairs_in_contact = sums.contact.pairs;
+        // Normal load lambda / l per unit length along every line: force +-lambda n,
+        // moments (lambda / l) int (P - c_j) ds x n.
+        let q = lam / sums.contact.length;
+        let fn2 = lam * m.n;
+        let mn1 = -q * sums.arm1.cross(&m.n);
+        let mn2 = q * sums.arm2.cross(&m.n);
+        let arr = |x: Vector3<f64>| [x.x, x.y, x.z];
+        o.f_friction1 = arr(fr.f1);
+        o.f_friction2 = arr(fr.f2);
+        o.m_friction1 = arr(fr.m1);
+        o.m_friction2 = arr(fr.m2);
+        o.f_contact1 = arr(fr.f1 - fn2);
+        o.f_contact2 = arr(fr.f2 + fn2);
+        o.m_contact1 = arr(fr.m1 + mn1);
+        o.m_contact2 = arr(fr.m2 + mn2);
+        o
+    }
+}
