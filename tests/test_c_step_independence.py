@@ -16,7 +16,7 @@ TOL = 1e-8  # setupExperiment tolerance: differences are then global-error sized
 # excluded (its scale is noise); Integer/Boolean outputs can legitimately flip
 # at a sample that sits on a contact boundary.
 SKIP = {"gap"}
-REL = 2e-5  # of each signal's maximum magnitude over the run
+REL = 1e-4  # of each signal's maximum magnitude over the run (worst seen: 1.4e-5, v1.x)
 
 
 @pytest.fixture(scope="module")
