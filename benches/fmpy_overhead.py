@@ -95,12 +95,13 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--sim-time", type=float, default=0.05)
+    ap.add_argument("--fmu", type=Path, default=None, help="use this .fmu (no build)")
     ap.add_argument("--no-build", action="store_true")
     args = ap.parse_args()
 
     from fmpy import simulate_fmu
 
-    fmu = FMU_PATH if args.no_build else build_fmu(REPO, quiet=True)
+    fmu = args.fmu or (FMU_PATH if args.no_build else build_fmu(REPO, quiet=True))
     pkg = FmuPackage(fmu)
     per10 = 0.01 / args.sim_time
     print(f"default case, default tolerance, {args.sim_time * 1e3:g} ms simulated per run, "

@@ -39,7 +39,7 @@ def window_mean(t: np.ndarray, y: np.ndarray, a: float, b: float) -> float:
     return float(np.sum(0.5 * (yy[1:] + yy[:-1]) * np.diff(tt)) / (b - a))
 
 
-def plot(out: Path, t, res, a: float, b: float) -> list[Path]:
+def plot(out: Path, t, res, a: float, b: float, t_m: float) -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -63,11 +63,14 @@ def plot(out: Path, t, res, a: float, b: float) -> list[Path]:
         plt.close(fig)
         files.append(f)
     sel = t >= a
+    last = t >= t[-1] - 3 * t_m - 1e-12
     fig, axes = plt.subplots(1, 2, figsize=(9, 4.2))
     for ax, j in zip(axes, (1, 2)):
-        x, y = 1e6 * res[f"u{j}.x"][sel], 1e6 * res[f"u{j}.y"][sel]
-        ax.plot(x, y, lw=0.8)
-        ax.set_title(f"centre of gear {j} (t >= {1e3 * a:g} ms)")
+        x, y = 1e6 * res[f"u{j}.x"], 1e6 * res[f"u{j}.y"]
+        ax.plot(x[sel], y[sel], lw=0.6, color="0.75", label=f"t >= {1e3 * a:g} ms (decaying transient)")
+        ax.plot(x[last], y[last], lw=1.4, color="C0", label="last 3 mesh periods")
+        ax.legend(loc="best", fontsize=7)
+        ax.set_title(f"centre of gear {j}")
         ax.set_xlabel(f"u{j}x [um]")
         ax.set_ylabel(f"u{j}y [um]")
         ax.set_aspect("equal", adjustable="datalim")
@@ -87,13 +90,14 @@ def main() -> int:
     ap.add_argument("--transient", type=float, default=0.05,
                     help="start of the averaging window [s] (bearing transients decay like exp(-150 t))")
     ap.add_argument("--out", type=Path, default=REPO / "out")
+    ap.add_argument("--fmu", type=Path, default=None, help="use this .fmu (no build)")
     ap.add_argument("--no-build", action="store_true", help="use the existing target/fmu/GearedRotor.fmu")
     args = ap.parse_args()
 
     from fmpy import read_model_description, simulate_fmu
     from fmpy.util import write_csv
 
-    fmu = FMU_PATH if args.no_build else build_fmu(REPO)
+    fmu = args.fmu or (FMU_PATH if args.no_build else build_fmu(REPO))
     md = read_model_description(str(fmu))
     start = {v.name: v.start for v in md.modelVariables if v.start is not None}
     omega1, z1, mu = float(start["omega1"]), int(start["z1"]), float(start["mu"])
@@ -122,7 +126,7 @@ def main() -> int:
     t1 = window_mean(t, res["T1"], a, b)
     fn = window_mean(t, res["Fn"], a, b)
     h_v = float(res["H_V"][-1])
-    files = plot(args.out, t, res, a, b)
+    files = plot(args.out, t, res, a, b, t_m)
 
     print(f"GearedRotor.fmu, defaults, {args.stop_time:g} s through FMPy "
           f"(output interval {args.output_interval:g} s, CPU {cpu:.2f} s)")
