@@ -55,8 +55,9 @@ def bare_loop(pkg: FmuPackage, sim_time: float, h: float) -> tuple[float, float,
 
 
 def internal_steps(pkg: FmuPackage, sim_time: float, h: float) -> int | None:
-    """Accepted internal steps from the logSolver messages (last cumulative
-    count if the FMU reports cumulative statistics, else the sum)."""
+    """Accepted internal steps from the logSolver messages: the sum of the
+    per-interval counts ("doStep [t0, t1] s: ... naccpt=N"), else the last
+    (cumulative) count."""
     inst = pkg.instance("bench-log", logging_on=True)
     try:
         inst.slave.setDebugLogging(True, ["logSolver"])
@@ -68,14 +69,16 @@ def internal_steps(pkg: FmuPackage, sim_time: float, h: float) -> int | None:
         inst.do_step(h)
     inst.terminate_and_free()
     counts = []
+    per_interval = False
     for r in inst.log:
         m = re.search(r"naccpt=(\d+)", r.message) or re.search(r"nstep=(\d+)", r.message)
         if m:
             counts.append(int(m.group(1)))
+            # "doStep [t0, t1] s: nfcn=.. naccpt=.." = statistics of one interval
+            per_interval = per_interval or "doStep [" in r.message
     if not counts:
         return None
-    monotone = all(b >= a for a, b in zip(counts, counts[1:]))
-    return counts[-1] if monotone else sum(counts)
+    return sum(counts) if per_interval else counts[-1]
 
 
 def rust_bench() -> str | None:
