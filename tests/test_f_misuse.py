@@ -215,6 +215,20 @@ def test_known_log_categories_accepted(fresh, pkg):
     assert any(r.category == "logSolver" for r in inst.log), "no logSolver message while enabled"
 
 
+def test_debug_logging_filters_by_category(fresh):
+    """FMI 2.0: loggingOn with a list of categories prints only those; loggingOn
+    = false prints none of the debug categories (errors are still reported)."""
+    inst = fresh(initialized=False)
+    inst.slave.setDebugLogging(True, ["logEvents"])
+    inst.initialize()
+    inst.do_step(H)
+    assert not [r for r in inst.log if r.category == "logSolver"], inst.log_text()
+    inst.slave.setDebugLogging(False, [])
+    n = len(inst.log)
+    inst.do_step(H)
+    assert not [r for r in inst.log[n:] if r.status < FMI2_ERROR], inst.log_text()
+
+
 def test_unsupported_directional_derivative(fresh, pkg):
     if pkg.md.coSimulation.providesDirectionalDerivative:
         pytest.skip("directional derivatives declared")
