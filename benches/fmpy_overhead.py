@@ -68,17 +68,16 @@ def internal_steps(pkg: FmuPackage, sim_time: float, h: float) -> int | None:
     for _ in range(int(round(sim_time / h))):
         inst.do_step(h)
     inst.terminate_and_free()
-    counts = []
-    per_interval = False
+    per_interval, other = [], []
     for r in inst.log:
         m = re.search(r"naccpt=(\d+)", r.message) or re.search(r"nstep=(\d+)", r.message)
         if m:
-            counts.append(int(m.group(1)))
-            # "doStep [t0, t1] s: nfcn=.. naccpt=.." = statistics of one interval
-            per_interval = per_interval or "doStep [" in r.message
-    if not counts:
-        return None
-    return sum(counts) if per_interval else counts[-1]
+            # "doStep [t0, t1] s: nfcn=.. naccpt=.." = statistics of one interval;
+            # anything else (e.g. a summary at fmi2Terminate) is cumulative
+            (per_interval if "doStep [" in r.message else other).append(int(m.group(1)))
+    if per_interval:
+        return sum(per_interval)
+    return other[-1] if other else None
 
 
 def rust_bench() -> str | None:
