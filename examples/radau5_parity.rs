@@ -2,6 +2,10 @@
 //! JSON object per line: counters, max abs error against the reference solution and the
 //! median time per solve (>= 7 measurements, each repeating the solve for >= 0.2 s).
 //!
+//! `seconds_per_solve` is wall time. The machine is shared, so each line also carries the
+//! thread's CPU time per solve (`/proc/thread-self/schedstat`, Linux), which excludes the
+//! time spent descheduled, and both ratios against the Fortran's time in the reference file.
+//!
 //! `cargo run --release --example radau5_parity`
 
 use std::hint::black_box;
@@ -13,19 +17,37 @@ use geared_rotor::radau5::Controller;
 const MEASUREMENTS: usize = 7;
 const MIN_MEASUREMENT: Duration = Duration::from_millis(200);
 
-fn seconds_per_solve(r: &ReferenceRow) -> f64 {
-    let mut samples = Vec::with_capacity(MEASUREMENTS);
+/// CPU time this thread has run so far (Linux; `None` elsewhere).
+fn thread_cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// (wall, cpu) seconds per solve: medians of the measurements.
+fn seconds_per_solve(r: &ReferenceRow) -> (f64, Option<f64>) {
+    let mut wall = Vec::with_capacity(MEASUREMENTS);
+    let mut cpu = Vec::with_capacity(MEASUREMENTS);
     for _ in 0..MEASUREMENTS {
+        let c0 = thread_cpu_seconds();
         let start = Instant::now();
         let mut n = 0u32;
         while start.elapsed() < MIN_MEASUREMENT {
             black_box(run_row(black_box(r)).ok());
             n += 1;
         }
-        samples.push(start.elapsed().as_secs_f64() / f64::from(n));
+        wall.push(start.elapsed().as_secs_f64() / f64::from(n));
+        if let (Some(a), Some(b)) = (c0, thread_cpu_seconds()) {
+            cpu.push((b - a) / f64::from(n));
+        }
     }
-    samples.sort_by(f64::total_cmp);
-    samples[MEASUREMENTS / 2]
+    let cpu = (cpu.len() == MEASUREMENTS).then(|| median(cpu));
+    (median(wall), cpu)
 }
 
 fn main() {
@@ -40,7 +62,7 @@ fn main() {
                 continue;
             }
         };
-        let secs = seconds_per_solve(&r);
+        let (secs, cpu) = seconds_per_solve(&r);
         let s = out.stats;
         let mut line = format!(
             "{{\"problem\":\"{}\",\"rtol\":{:e},\"atol\":{:e},\"t_end\":{:e},\"nfcn\":{},\"njac\":{},\"nstep\":{},\"naccpt\":{},\"nrejct\":{},\"ndec\":{},\"nsol\":{},\"max_abs_err\":{:.3e},\"seconds_per_solve\":{:.3e}",
@@ -54,11 +76,18 @@ fn main() {
             line.push_str(&format!(",\"err_lambda\":{e:.3e}"));
         }
         line.push_str(&format!(
-            ",\"counters_equal_fortran\":{},\"fortran_seconds_per_solve\":{:.3e},\"time_ratio_vs_fortran\":{:.2}}}",
+            ",\"counters_equal_fortran\":{},\"fortran_seconds_per_solve\":{:.3e},\"time_ratio_vs_fortran\":{:.2}",
             s == r.fortran,
             r.fortran_seconds,
             secs / r.fortran_seconds
         ));
+        if let Some(c) = cpu {
+            line.push_str(&format!(
+                ",\"cpu_seconds_per_solve\":{c:.3e},\"cpu_time_ratio_vs_fortran\":{:.2}",
+                c / r.fortran_seconds
+            ));
+        }
+        line.push('}');
         println!("{line}");
     }
 }

@@ -7,10 +7,13 @@
 //!   consistent initial values (`model.md` §5–§8).
 //! - [`radau5`]: Hairer & Wanner's RADAU5 for `M y' = f(t, y)`, step-based; knows nothing of gears.
 //! - [`sim`]: the rotor DAE driven by RADAU5 across communication points (safe Rust API).
+//! - [`periodic`]: the periodic steady state by shooting (Floquet multipliers) and by the
+//!   n-th order harmonic approach (`model.md` §11, the paper's Fig. 3).
 //! - [`fmi2`]: the FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe instance.
 
 pub mod fmi2;
 pub mod gear;
+pub mod periodic;
 pub mod radau5;
 pub mod rotor;
 pub mod sim;

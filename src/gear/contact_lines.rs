@@ -73,9 +73,13 @@ impl PairGeometry {
         let w1 = (z_lo - u1z) * tau;
         let w2 = (z_hi - u1z) * tau;
         let (w_lo, w_hi) = (w1.min(w2), w1.max(w2));
-        let k_min = ((sa + w_lo - s_ph) / p).ceil() as i64 - 1;
-        let k_max = ((se + w_hi - s_ph) / p).floor() as i64 + 1;
-        let k_max = k_max.min(k_min + MAX_LINES);
+        if !(s_ph.is_finite() && sa.is_finite() && w_lo.is_finite() && w_hi.is_finite()) {
+            return sum;
+        }
+        // Saturating: absurd (but finite) displacements must not overflow the tooth index.
+        let k_min = (((sa + w_lo - s_ph) / p).ceil() as i64).saturating_sub(1);
+        let k_max = (((se + w_hi - s_ph) / p).floor() as i64).saturating_add(1);
+        let k_max = k_max.min(k_min.saturating_add(MAX_LINES));
         let inv_cb = 1.0 / self.cos_beta_b;
         for k in k_min..=k_max {
             let s_k = s_ph + k as f64 * p;

@@ -74,7 +74,9 @@ fn asinh_ratio(x: f64, ay: f64) -> f64 {
     }
 }
 
-/// Gauss-Legendre 10-point nodes (positive half) on [-1, 1] (QUADPACK qk21's Gauss part).
+/// Gauss-Legendre 10-point nodes (positive half) on [-1, 1] (QUADPACK qk21's Gauss part),
+/// kept with their published digits.
+#[allow(clippy::excessive_precision)]
 const GL_X: [f64; 5] = [
     0.148_874_338_981_631_210_884_826_001_129_720,
     0.433_395_394_129_247_190_799_265_943_165_784,
@@ -83,6 +85,7 @@ const GL_X: [f64; 5] = [
     0.973_906_528_517_171_720_077_964_012_084_452,
 ];
 /// Gauss-Legendre 10-point weights matching [`GL_X`].
+#[allow(clippy::excessive_precision)]
 const GL_W: [f64; 5] = [
     0.295_524_224_714_752_870_173_892_994_651_338,
     0.269_266_719_309_996_355_091_226_921_569_469,

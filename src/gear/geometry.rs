@@ -261,13 +261,15 @@ impl PairGeometry {
             let v = inv(alpha_t) + 2.0 * d.alpha_n.tan() * (d.x1 + d.x2) / (z1 + z2);
             match inv_inverse(v) {
                 Some(awt) => (awt, r_sum / awt.cos()),
-                None => return Err(err(
-                    "x1+x2",
-                    d.x1 + d.x2,
-                    format!(
+                None => {
+                    return Err(err(
+                        "x1+x2",
+                        d.x1 + d.x2,
+                        format!(
                         "inv alpha_wt = inv alpha_t + 2 tan alpha_n (x1 + x2)/(z1 + z2) = {v} > 0"
                     ),
-                )),
+                    ))
+                }
             }
         } else {
             if !(d.a_w > r_sum) {
@@ -389,7 +391,12 @@ impl PairGeometry {
     ///   constant (integer eps_beta), an approximation otherwise.
     /// - spur (beta = 0, 1 < eps_alpha < 2, load shared equally in double contact):
     ///   `pi (u+1)/(2 z1 u) [eps_1^2 + eps_2^2 + (1-eps_1)|1-eps_1| + (1-eps_2)|1-eps_2|]`,
-    ///   which is Ohlendorf's formula when eps_1, eps_2 <= 1.
+    ///   which is Ohlendorf's formula when eps_1, eps_2 <= 1. Valid for 1 < eps_alpha < 2
+    ///   (at most two pairs in contact), which covers ordinary spur pairs.
+    ///
+    /// Kinematic check (tests/gear_loss_factor.rs): both are exact to round-off for the
+    /// cases they are stated for; for the default pair (eps_beta = 0.98) the exact phase
+    /// average lies 5.7e-5 below the helical formula.
     pub fn loss_factor(&self) -> f64 {
         let u = self.ratio();
         let z1 = self.data.z1 as f64;

@@ -1,6 +1,9 @@
 //! Gear pair geometry, mesh kinematics of the displaced centres, contact lines and
 //! distributed Coulomb friction (`model.md` §2-§4, §9.7). No solver, no FMI.
 
+// `!(a > b)` is used on purpose throughout: it also rejects NaN, which `a <= b` would let pass.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod contact_lines;
 pub mod friction;
 pub mod geometry;

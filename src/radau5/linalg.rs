@@ -4,6 +4,13 @@
 //!
 //! Fixed-size storage (no heap). The complex factor holds `nalgebra::Complex` entries, but
 //! the arithmetic is written out in real and imaginary parts in the Fortran's order.
+//!
+//! One deliberate difference in bookkeeping, not in arithmetic: when rows are swapped at
+//! stage k, the multipliers of the earlier stages are swapped too (LAPACK's layout), and the
+//! composed permutation `perm` is kept. The solve then permutes b once and eliminates with
+//! static indices (values stay in registers for small N). Every entry of b receives the
+//! same additions, with the same multipliers, in the same order as in `SOL`/`SOLC`, so the
+//! results are bit-identical.
 
 use nalgebra::{Complex, SMatrix, SVector};
 
@@ -13,6 +20,8 @@ use nalgebra::{Complex, SMatrix, SVector};
 pub struct RealLu<const N: usize> {
     pub a: SMatrix<f64, N, N>,
     pub ip: [usize; N],
+    /// Composition of the row swaps: row i of the factors is row `perm[i]` of the matrix.
+    pub perm: [usize; N],
 }
 
 /// LU factors of a complex N x N matrix (layout as [`RealLu`]).
@@ -20,6 +29,8 @@ pub struct RealLu<const N: usize> {
 pub struct ComplexLu<const N: usize> {
     pub a: SMatrix<Complex<f64>, N, N>,
     pub ip: [usize; N],
+    /// As [`RealLu::perm`].
+    pub perm: [usize; N],
 }
 
 /// The matrix is singular at elimination stage `k` (1-based like the Fortran's IER).
@@ -31,6 +42,7 @@ impl<const N: usize> RealLu<N> {
         RealLu {
             a: SMatrix::zeros(),
             ip: [0; N],
+            perm: std::array::from_fn(|i| i),
         }
     }
 
@@ -43,6 +55,7 @@ impl<const N: usize> RealLu<N> {
         if N == 0 {
             return Ok(());
         }
+        self.perm = std::array::from_fn(|i| i);
         for k in 0..N.saturating_sub(1) {
             let mut m = k;
             for i in k + 1..N {
@@ -55,6 +68,10 @@ impl<const N: usize> RealLu<N> {
             if m != k {
                 a[(m, k)] = a[(k, k)];
                 a[(k, k)] = t;
+                self.perm.swap(m, k);
+                for j in 0..k {
+                    a.swap((m, j), (k, j));
+                }
             }
             if t == 0.0 {
                 return Err(Singular(k + 1));
@@ -86,11 +103,12 @@ impl<const N: usize> RealLu<N> {
         if N == 0 {
             return;
         }
+        let src = *b;
+        for i in 0..N {
+            b[i] = src[self.perm[i]];
+        }
         for k in 0..N - 1 {
-            let m = self.ip[k];
-            let t = b[m];
-            b[m] = b[k];
-            b[k] = t;
+            let t = b[k];
             for i in k + 1..N {
                 b[i] += a[(i, k)] * t;
             }
@@ -111,6 +129,7 @@ impl<const N: usize> ComplexLu<N> {
         ComplexLu {
             a: SMatrix::from_element(Complex::new(0.0, 0.0)),
             ip: [0; N],
+            perm: std::array::from_fn(|i| i),
         }
     }
 
@@ -124,6 +143,7 @@ impl<const N: usize> ComplexLu<N> {
             return Ok(());
         }
         let norm1 = |z: Complex<f64>| z.re.abs() + z.im.abs();
+        self.perm = std::array::from_fn(|i| i);
         for k in 0..N.saturating_sub(1) {
             let mut m = k;
             for i in k + 1..N {
@@ -136,6 +156,10 @@ impl<const N: usize> ComplexLu<N> {
             if m != k {
                 a[(m, k)] = a[(k, k)];
                 a[(k, k)] = p;
+                self.perm.swap(m, k);
+                for j in 0..k {
+                    a.swap((m, j), (k, j));
+                }
             }
             if norm1(p) == 0.0 {
                 return Err(Singular(k + 1));
@@ -198,14 +222,14 @@ impl<const N: usize> ComplexLu<N> {
         if N == 0 {
             return;
         }
+        let (sr, si) = (*br, *bi);
+        for i in 0..N {
+            br[i] = sr[self.perm[i]];
+            bi[i] = si[self.perm[i]];
+        }
         for k in 0..N - 1 {
-            let m = self.ip[k];
-            let tr = br[m];
-            let ti = bi[m];
-            br[m] = br[k];
-            bi[m] = bi[k];
-            br[k] = tr;
-            bi[k] = ti;
+            let tr = br[k];
+            let ti = bi[k];
             for i in k + 1..N {
                 let x = a[(i, k)];
                 let prodr = x.re * tr - x.im * ti;
@@ -247,7 +271,10 @@ mod tests {
         let m = SMatrix::<f64, 3, 3>::new(0.0, 2.0, 1.0, 1.0, 1.0, 1.0, 4.0, -1.0, 3.0);
         let x = SVector::<f64, 3>::new(1.0, -2.0, 0.5);
         let mut b = m * x;
-        let mut lu = RealLu { a: m, ip: [0; 3] };
+        let mut lu = RealLu {
+            a: m,
+            ..RealLu::zeros()
+        };
         lu.factor().unwrap();
         lu.solve(&mut b);
         assert!((b - x).norm() < 1e-14);
@@ -266,7 +293,10 @@ mod tests {
         let b = a * x;
         let mut br = b.map(|z| z.re);
         let mut bi = b.map(|z| z.im);
-        let mut lu = ComplexLu { a, ip: [0; 3] };
+        let mut lu = ComplexLu {
+            a,
+            ..ComplexLu::zeros()
+        };
         lu.factor().unwrap();
         lu.solve(&mut br, &mut bi);
         for i in 0..3 {
@@ -278,7 +308,7 @@ mod tests {
     fn singular_is_reported() {
         let mut lu = RealLu::<2> {
             a: SMatrix::<f64, 2, 2>::new(1.0, 2.0, 2.0, 4.0),
-            ip: [0; 2],
+            ..RealLu::zeros()
         };
         assert_eq!(lu.factor(), Err(Singular(2)));
         let mut c = ComplexLu::<2>::zeros();

@@ -3,15 +3,42 @@
 //! (`../shared/spec/radau5.md`).
 //!
 //! Same algorithm, constants, defaults and decisions as the Fortran (§1-§7), so that the
-//! work counters match it step for step; plus the step-based interface co-simulation needs
-//! (§8): stop times without restart, dense output, explicit restart, a plain-data
-//! [`Snapshot`] with a byte layout, typed [`Error`]s, [`Statistics`], and no heap
-//! allocation after construction (fixed-size nalgebra storage, static dispatch).
+//! work counters match it step for step (all 26 rows of `reference.md` match exactly, see
+//! `tests/radau5_parity.rs`); plus the step-based interface co-simulation needs (§8): stop
+//! times without restart, dense output, explicit restart, a plain-data [`Snapshot`] with a
+//! byte layout, typed [`Error`]s, [`Statistics`], and no heap allocation after
+//! construction (fixed-size nalgebra storage, static dispatch on the [`Problem`] type).
 //!
 //! Modules: [`tableau`] (constants), [`options`] (defaults and validation), [`linalg`]
 //! (DECSOL-style LU), `stepper` (RADCOR as a state machine, dense output), `state`
 //! (everything kept between steps), `snapshot` (copy and bytes), `stats`, `error`.
+//!
+//! # Where it differs from `RADCOR`, and why
+//! None of these changes a decision of an integration over `[t0, t_end]` in one
+//! [`Radau5::integrate_to`] call (the parity setting); they concern what the Fortran does
+//! not have:
+//! - Stop times (§8): the step that reaches a stop time lands on it exactly (`t + h` is
+//!   replaced by `t_stop`), like the Fortran's last step. If that shortened step went
+//!   through without trouble, the controller's proposal from before the shortening is kept
+//!   (and the Gustafsson history is not overwritten by the tiny step), so tiny
+//!   communication steps cost one step each. Between stop intervals of (nearly) equal
+//!   length the LU pair is reused. A Newton start extrapolated over more than `1/facr`
+//!   times the last step (impossible in the Fortran) starts from zero instead.
+//! - `f(t, y)` after a step that landed on a stop time is evaluated when the next step
+//!   starts (the Fortran never evaluates it after its last step, and does not count it).
+//! - A stop time within 4 ulps of t is reached without a step (it could only fail with
+//!   "step size too small").
+//! - f at the end of an accepted step is evaluated before the step is committed, so a
+//!   failing f there shrinks h like a Newton failure.
+//! - f returning `Err` or non-finite values, and non-finite Newton increments, count as
+//!   Newton failures (h halved); 10 in a row end the step with [`Error::Rhs`] /
+//!   [`Error::NonFinite`], 20 unexpected failures in a row with [`Error::NewtonFailure`]
+//!   (the Fortran relies on "step size too small", which can not trigger at t = 0).
+//!   Singular LU pairs are counted since the last accepted step (the Fortran never resets
+//!   `NSING`).
+//! - Only forward integration (`t_stop >= t`).
 
+mod error;
 pub mod linalg;
 pub mod options;
 mod problem;
@@ -20,7 +47,6 @@ mod state;
 mod stats;
 mod stepper;
 pub mod tableau;
-mod error;
 #[doc(hidden)]
 pub mod test_problems;
 

@@ -196,11 +196,15 @@ impl<const N: usize> Params<N> {
         if !(o.safety > 0.001 && o.safety < 1.0) {
             return Err(invalid("safety", o.safety, "0.001 < safety < 1"));
         }
-        if !(o.theta_jac < 1.0) {
+        if o.theta_jac.is_nan() || o.theta_jac >= 1.0 {
             return Err(invalid("theta_jac", o.theta_jac, "theta_jac < 1"));
         }
-        if o.max_newton == 0 {
-            return Err(invalid("max_newton", 0.0, "max_newton >= 1"));
+        if o.max_newton == 0 || o.max_newton > 1000 {
+            return Err(invalid(
+                "max_newton",
+                f64::from(o.max_newton),
+                "1 <= max_newton <= 1000",
+            ));
         }
         if o.max_steps == 0 {
             return Err(invalid("max_steps", 0.0, "max_steps >= 1"));
@@ -208,16 +212,16 @@ impl<const N: usize> Params<N> {
         if !(o.keep_h_lo <= 1.0 && o.keep_h_lo > 0.0) {
             return Err(invalid("keep_h_lo", o.keep_h_lo, "0 < keep_h_lo <= 1"));
         }
-        if !(o.keep_h_hi >= 1.0) {
+        if o.keep_h_hi.is_nan() || o.keep_h_hi < 1.0 {
             return Err(invalid("keep_h_hi", o.keep_h_hi, "keep_h_hi >= 1"));
         }
         if !(o.fac_min > 0.0 && o.fac_min <= 1.0) {
             return Err(invalid("fac_min", o.fac_min, "0 < fac_min <= 1"));
         }
-        if !(o.fac_max >= 1.0) {
+        if o.fac_max.is_nan() || o.fac_max < 1.0 {
             return Err(invalid("fac_max", o.fac_max, "fac_max >= 1"));
         }
-        if !(o.h_max > 0.0) {
+        if o.h_max.is_nan() || o.h_max <= 0.0 {
             return Err(invalid("h_max", o.h_max, "h_max > 0"));
         }
         if !(o.h_init >= 0.0 && o.h_init.is_finite()) {

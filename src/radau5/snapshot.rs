@@ -36,6 +36,7 @@ impl<const N: usize> Radau5<N> {
     /// Continues from a snapshot as if the steps since it had never been taken.
     pub fn restore(&mut self, s: &Snapshot<N>) {
         self.st = s.state.clone();
+        self.pattern = super::stepper::MassPattern::new(&self.st.mass);
     }
 }
 
@@ -153,10 +154,13 @@ struct Reader<'a> {
 impl Reader<'_> {
     fn take<const K: usize>(&mut self) -> Result<[u8; K], SnapshotError> {
         let end = self.pos + K;
-        let s = self.buf.get(self.pos..end).ok_or(SnapshotError::Truncated {
-            needed: end,
-            found: self.buf.len(),
-        })?;
+        let s = self
+            .buf
+            .get(self.pos..end)
+            .ok_or(SnapshotError::Truncated {
+                needed: end,
+                found: self.buf.len(),
+            })?;
         let mut out = [0u8; K];
         out.copy_from_slice(s);
         self.pos = end;
@@ -245,8 +249,10 @@ fn visit<const N: usize, I: Io>(io: &mut I, s: &mut State<N>) -> Result<(), Snap
     io.mat(&mut s.jac)?;
     io.mat(&mut s.lu1.a)?;
     io.pivots(&mut s.lu1.ip)?;
+    io.pivots(&mut s.lu1.perm)?;
     io.cmat(&mut s.lu2.a)?;
     io.pivots(&mut s.lu2.ip)?;
+    io.pivots(&mut s.lu2.perm)?;
     io.bool(&mut s.first, "first")?;
     io.bool(&mut s.reject, "reject")?;
     io.bool(&mut s.caljac, "caljac")?;
@@ -407,5 +413,20 @@ impl<const N: usize> Snapshot<N> {
         let mut state = zero_state::<N>();
         visit(&mut r, &mut state)?;
         Ok(Snapshot { state })
+    }
+}
+
+impl<const N: usize> Snapshot<N> {
+    /// Time of the snapshot.
+    pub fn t(&self) -> f64 {
+        self.state.t
+    }
+    /// State at [`Snapshot::t`].
+    pub fn y(&self) -> &SVector<f64, N> {
+        &self.state.y
+    }
+    /// Counters at the snapshot.
+    pub fn stats(&self) -> &Statistics {
+        &self.state.stats
     }
 }

@@ -29,6 +29,39 @@ const MAX_SINGULAR: u32 = 5;
 pub struct Radau5<const N: usize> {
     pub(crate) st: State<N>,
     tab: Tableau,
+    /// Nonzero columns of each row of M (derived from `st.mass`, not part of the state).
+    pub(crate) pattern: MassPattern<N>,
+}
+
+/// Row-wise nonzero pattern of the mass matrix. Products `M x` skip the structural
+/// zeros; this changes no bit of the result (the Fortran's sums start at +0 and adding
+/// `0 * x_j = +-0` to a sum that is never -0 leaves it unchanged), but saves most of the
+/// N^2 work for the (block-)diagonal masses of mechanical DAEs.
+#[derive(Debug, Clone)]
+pub(crate) struct MassPattern<const N: usize> {
+    cols: [[usize; N]; N],
+    len: [usize; N],
+}
+
+impl<const N: usize> MassPattern<N> {
+    pub(crate) fn new(m: &SMatrix<f64, N, N>) -> Self {
+        let mut cols = [[0usize; N]; N];
+        let mut len = [0usize; N];
+        for i in 0..N {
+            for j in 0..N {
+                if m[(i, j)] != 0.0 {
+                    cols[i][len[i]] = j;
+                    len[i] += 1;
+                }
+            }
+        }
+        MassPattern { cols, len }
+    }
+
+    #[inline]
+    fn row(&self, i: usize) -> &[usize] {
+        &self.cols[i][..self.len[i]]
+    }
 }
 
 /// Why an attempt failed "unexpectedly" (the Fortran's label 78).
@@ -127,13 +160,16 @@ impl<const N: usize> Radau5<N> {
         let mut f0 = SVector::zeros();
         let r = eval(problem, t0, &y0, &mut f0);
         st.stats.nfcn += 1;
-        Self::initial_eval_result(r, t0, h)?;
+        Self::point_eval_error(r, t0, h)?;
         st.f0 = f0;
         st.f0_valid = true;
-        Ok(Radau5 { st, tab })
+        let pattern = MassPattern::new(&st.mass);
+        Ok(Radau5 { st, tab, pattern })
     }
 
-    fn initial_eval_result(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
+    /// Maps a failed evaluation of f at an accepted point (start, restart, after a stop
+    /// time) to the typed error: there is no step to shrink there.
+    fn point_eval_error(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
         match r {
             Ok(()) => Ok(()),
             Err(Failure::Rhs(e)) => Err(Error::Rhs {
@@ -172,7 +208,11 @@ impl<const N: usize> Radau5<N> {
     ///
     /// # Errors
     /// See [`Radau5::step`].
-    pub fn integrate_to<P: Problem<N>>(&mut self, problem: &mut P, t_stop: f64) -> Result<(), Error> {
+    pub fn integrate_to<P: Problem<N>>(
+        &mut self,
+        problem: &mut P,
+        t_stop: f64,
+    ) -> Result<(), Error> {
         if t_stop.is_nan() || t_stop < self.st.t {
             return Err(Error::StopTimeBehind {
                 t: self.st.t,
@@ -234,7 +274,7 @@ impl<const N: usize> Radau5<N> {
         let mut f0 = SVector::zeros();
         let r = eval(problem, s.t, &y, &mut f0);
         s.stats.nfcn += 1;
-        Self::initial_eval_result(r, s.t, s.h_next)?;
+        Self::point_eval_error(r, s.t, s.h_next)?;
         s.y = y;
         s.f0 = f0;
         s.f0_valid = true;
@@ -352,6 +392,13 @@ impl<const N: usize> Radau5<N> {
         if t_stop == self.st.t {
             return Ok(self.st.t);
         }
+        // A stop time within a few ulps of t (a master's rounded communication point) can not
+        // be reached by a step (h would fail the "step size too small" test): snap onto it.
+        if t_stop - self.st.t <= 4.0 * f64::EPSILON * self.st.t.abs().max(t_stop.abs()) {
+            self.st.t = t_stop;
+            self.st.steps_since_stop = 0;
+            return Ok(t_stop);
+        }
         let p = self.st.params;
         let tab = self.tab;
         let nit = p.nit;
@@ -361,7 +408,7 @@ impl<const N: usize> Radau5<N> {
             let mut f0 = SVector::zeros();
             let r = eval(problem, t, &self.st.y, &mut f0);
             self.st.stats.nfcn += 1;
-            Self::initial_eval_result(r, t, self.st.h_next)?;
+            Self::point_eval_error(r, t, self.st.h_next)?;
             self.st.f0 = f0;
             self.st.f0_valid = true;
         }
@@ -494,6 +541,7 @@ impl<const N: usize> Radau5<N> {
                 self.st.action = Action::Step;
             }
             // ---- label 30: the attempt
+            let pat = &self.pattern;
             let s = &mut self.st;
             s.stats.nstep += 1;
             s.steps_since_stop += 1;
@@ -586,7 +634,7 @@ impl<const N: usize> Radau5<N> {
                 if s.has_mass {
                     for i in 0..N {
                         let (mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0);
-                        for j in 0..N {
+                        for &j in pat.row(i) {
                             let bb = s.mass[(i, j)];
                             s1 -= bb * f1[j];
                             s2 -= bb * f2[j];
@@ -637,7 +685,8 @@ impl<const N: usize> Radau5<N> {
                             // Predicted non-convergence: restart with a smaller h (not a
                             // rejection).
                             let qnewt = 1.0e-4f64.max(20.0f64.min(dyth));
-                            s.hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + f64::from(nit) - 1.0 - f64::from(newt)));
+                            s.hhfac = 0.8
+                                * qnewt.powf(-1.0 / (4.0 + f64::from(nit) - 1.0 - f64::from(newt)));
                             break 'newton Err(None);
                         }
                     } else {
@@ -688,7 +737,7 @@ impl<const N: usize> Radau5<N> {
                 }
                 for i in 0..N {
                     let mut sum = 0.0;
-                    for j in 0..N {
+                    for &j in pat.row(i) {
                         sum += s.mass[(i, j)] * fz[j];
                     }
                     fm[i] = sum;
@@ -702,7 +751,7 @@ impl<const N: usize> Radau5<N> {
             }
             s.lu1.solve(&mut cont);
             let mut err = Self::scaled_rms(&cont, &s.scal);
-            if !(err < 1.0) && (s.first || s.reject) {
+            if (err.is_nan() || err >= 1.0) && (s.first || s.reject) {
                 a1.copy_from(&s.y);
                 a1 += &cont;
                 let r = eval(problem, t, &a1, &mut a2);

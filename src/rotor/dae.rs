@@ -98,7 +98,8 @@ impl GearedRotor {
         &self.geom
     }
 
-    /// Changes mu (tunable).
+    /// Changes mu (tunable). The lambda held in a state is then no longer consistent:
+    /// recompute it with [`GearedRotor::consistent_lambda`] before restarting the solver.
     ///
     /// # Errors
     /// mu negative or not finite.
@@ -108,7 +109,8 @@ impl GearedRotor {
         Ok(())
     }
 
-    /// Changes the rotational damper d_phi (tunable).
+    /// Changes the rotational damper d_phi (tunable); as for [`GearedRotor::set_mu`],
+    /// re-project lambda with [`GearedRotor::consistent_lambda`] before a restart.
     ///
     /// # Errors
     /// d_phi negative or not finite.
@@ -132,6 +134,19 @@ impl GearedRotor {
     /// Gap offset g0 (§3.3), set by the initialisation.
     pub fn gap_offset(&self) -> f64 {
         self.g0
+    }
+
+    /// The references fixed at initialisation, `(g0, phi1(0))`: model state outside y that
+    /// an FMU state snapshot must carry (the gap diagnostic and phi2/TE outputs use them).
+    pub fn references(&self) -> (f64, f64) {
+        (self.g0, self.phi1_0)
+    }
+
+    /// Restores the references of [`GearedRotor::references`] (e.g. after deserialising an
+    /// FMU state into a fresh instance).
+    pub fn set_references(&mut self, g0: f64, phi1_0: f64) {
+        self.g0 = g0;
+        self.phi1_0 = phi1_0;
     }
 
     /// Mesh of the displaced state y.
@@ -275,7 +290,6 @@ impl GearedRotor {
         let (cb, rb1, rb2) = (g.cos_beta_b, g.rb1, g.rb2);
         let omega1 = y[idx::OMEGA1];
         let omega1_dot = y[idx::OMEGA1_DOT];
-        let omega2 = y[v + 6];
         let t_load = self.inputs.t_load_at(t);
         let j1 = self.params.rotor1.j;
         jac.fill(0.0);
@@ -371,16 +385,16 @@ impl GearedRotor {
         let mut yp = *y;
         for &j in cols.iter() {
             let yj = y[j];
+            // Steps on the scale over which the friction terms vary: positions on the
+            // gear size, the phase on the mesh period, speeds on their own size.
             let scale = if j < 6 {
-                1e-6
+                g.a_w
             } else if j == idx::PHI1 {
-                1e-3
-            } else if j == idx::OMEGA1 || j == v + 6 {
-                1.0
+                g.phi1_period
             } else {
-                1e-3
+                yj.abs().max(1.0)
             };
-            let h = (f64::EPSILON.sqrt() * yj.abs().max(scale)).max(1e-300);
+            let h = f64::EPSILON.sqrt() * scale;
             yp[j] = yj + h;
             let h = yp[j] - yj;
             let mp = if j < 6 { self.mesh(t, &yp)? } else { m };
@@ -396,14 +410,13 @@ impl GearedRotor {
             jac[(idx::E_LOSS, j)] += (frp.p_loss - fr.p_loss) / h;
             yp[j] = yj;
         }
-        let _ = omega2;
         Ok(())
     }
 
     /// lambda from the hidden constraint in closed form (`model.md` §7).
     ///
-    /// Differentiating `G(q) v - r_b1 cos beta_b omega1 = 0` with `M v' = F + lambda G^T
-    /// + |lambda| Phi` (F: damping, springs, load; Phi: friction per unit |lambda|, fixed
+    /// Differentiating `G(q) v - r_b1 cos beta_b omega1 = 0` with
+    /// `M v' = F + lambda G^T + |lambda| Phi` (F: damping, springs, load; Phi: friction per unit |lambda|, fixed
     /// for fixed kinematics) gives `lambda A + |lambda| B = r` with `A = G M^-1 G^T`,
     /// `B = G M^-1 Phi`, `r = r_b1 cos beta_b omega1' - G' v - G M^-1 F`. Solving under
     /// each sign assumption and keeping the consistent one needs no iteration.
@@ -490,10 +503,7 @@ impl GearedRotor {
         }
         let m = self.mesh(t0, &y)?;
         let grow = g.constraint_row(&m);
-        let mut gv = 0.0;
-        for i in 0..6 {
-            gv += grow[i] * ic.u_dot[i];
-        }
+        let gv: f64 = grow.iter().zip(ic.u_dot.iter()).map(|(a, b)| a * b).sum();
         y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
         y[idx::LAMBDA] = self.consistent_lambda(t0, &y)?;
         self.g0 = -g.gap_raw(&m, 0.0);

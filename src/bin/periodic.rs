@@ -1,0 +1,302 @@
+//! Periodic steady state of the geared rotor by shooting (RADAU5, Floquet multipliers) and
+//! by the n-th order harmonic approach, n = 1..12; reproduces the paper's Fig. 3.
+//!
+//! Usage: `cargo run --release --bin periodic -- [--params FILE] [--omega1 W] [--out DIR]
+//! [--n-max N] [--json]`
+//!
+//! FILE holds `name = value` lines with the FMU's parameter names in SI units (rad for
+//! angles), e.g. `mu = 0.1` or `k1.x = 1e9`; `#` starts a comment. Writes to DIR (default
+//! `out/periodic`): `shooting_orbit.csv`, `harmonic_orbit_n4.csv`, `convergence.csv`,
+//! `floquet.csv`, `fig3.svg`. With `--json` the last line printed is one JSON object
+//! `{"shooting_residual": .., "floquet_max_abs": .., "hb": [{"n": 1, "max_rel_dev": ..}, ..]}`.
+
+use geared_rotor::periodic::harmonic::{harmonic_balance, HarmonicOptions, HarmonicSolution};
+use geared_rotor::periodic::shooting::{shoot, ShootingOptions};
+use geared_rotor::periodic::{max_rel_deviation, OrbitPoint, PeriodicSystem};
+use geared_rotor::rotor::Params;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+struct Args {
+    params: Params,
+    omega1: f64,
+    out: PathBuf,
+    n_max: usize,
+    json: bool,
+}
+
+fn set_param(p: &mut Params, name: &str, v: f64) -> Result<(), String> {
+    let axis = |s: &str| match s {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        _ => None,
+    };
+    let int = |v: f64| -> Result<i32, String> {
+        if v.fract() == 0.0 && v.abs() < 1e6 {
+            Ok(v as i32)
+        } else {
+            Err(format!("{name} must be an integer, got {v}"))
+        }
+    };
+    match name {
+        "z1" => p.gear.z1 = int(v)?,
+        "z2" => p.gear.z2 = int(v)?,
+        "m_n" => p.gear.m_n = v,
+        "alpha_n" => p.gear.alpha_n = v,
+        "beta" => p.gear.beta = v,
+        "b" => p.gear.b = v,
+        "x1" => p.gear.x1 = v,
+        "x2" => p.gear.x2 = v,
+        "h_aP" => p.gear.ha_coef = v,
+        "a_w_set" => p.gear.a_w = v,
+        "psi0" => p.psi0 = v,
+        "m1" => p.rotor1.m = v,
+        "J1" => p.rotor1.j = v,
+        "m2" => p.rotor2.m = v,
+        "J2" => p.rotor2.j = v,
+        "d_phi" => p.d_phi = v,
+        "mu" => p.mu = v,
+        "omega1_filter_frequency" => p.omega1_filter_hz = v,
+        _ => {
+            let (vec, ax) = name
+                .split_once('.')
+                .and_then(|(a, b)| axis(b).map(|i| (a, i)))
+                .ok_or_else(|| format!("unknown parameter '{name}'"))?;
+            match vec {
+                "k1" => p.rotor1.k[ax] = v,
+                "d1" => p.rotor1.d[ax] = v,
+                "k2" => p.rotor2.k[ax] = v,
+                "d2" => p.rotor2.d[ax] = v,
+                _ => return Err(format!("unknown parameter '{name}'")),
+            }
+        }
+    }
+    Ok(())
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut a = Args {
+        params: Params::default(),
+        omega1: 314.159,
+        out: PathBuf::from("out/periodic"),
+        n_max: 12,
+        json: false,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(arg) = it.next() {
+        let mut value = |what: &str| it.next().ok_or_else(|| format!("{arg} needs {what}"));
+        match arg.as_str() {
+            "--json" => a.json = true,
+            "--out" => a.out = PathBuf::from(value("a directory")?),
+            "--omega1" => {
+                a.omega1 = value("a speed in rad/s")?
+                    .parse()
+                    .map_err(|e| format!("--omega1: {e}"))?
+            }
+            "--n-max" => {
+                a.n_max = value("an order")?
+                    .parse()
+                    .map_err(|e| format!("--n-max: {e}"))?
+            }
+            "--params" => {
+                let path = value("a file")?;
+                let text = std::fs::read_to_string(&path).map_err(|e| format!("{path}: {e}"))?;
+                for (no, line) in text.lines().enumerate() {
+                    let line = line.split('#').next().unwrap_or("").trim();
+                    if line.is_empty() {
+                        continue;
+                    }
+                    let (k, v) = line
+                        .split_once('=')
+                        .ok_or_else(|| format!("{path}:{}: expected 'name = value'", no + 1))?;
+                    let v: f64 = v
+                        .trim()
+                        .parse()
+                        .map_err(|e| format!("{path}:{}: {e}", no + 1))?;
+                    set_param(&mut a.params, k.trim(), v)
+                        .map_err(|e| format!("{path}:{}: {e}", no + 1))?;
+                }
+            }
+            "-h" | "--help" => {
+                return Err(
+                    "usage: periodic [--params FILE] [--omega1 W] [--out DIR] [--n-max N] [--json]"
+                        .into(),
+                )
+            }
+            other => return Err(format!("unknown argument '{other}' (try --help)")),
+        }
+    }
+    Ok(a)
+}
+
+fn orbit_csv(points: &[OrbitPoint]) -> String {
+    let mut s = String::from("t,u1x,u1y,u1z,u2x,u2y,u2z,xi,lambda\n");
+    for p in points {
+        let _ = writeln!(
+            s,
+            "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
+            p.t, p.u[0], p.u[1], p.u[2], p.u[3], p.u[4], p.u[5], p.xi, p.lambda
+        );
+    }
+    s
+}
+
+/// Fig. 3 of the paper as SVG: orbits of both centres in the x-y plane [um], one panel per
+/// gear, RADAU5 (shooting) as lines, the harmonic approach as dots; red gear 1, blue gear 2.
+fn fig3_svg(orbit: &[OrbitPoint], dots: &[OrbitPoint], n: usize) -> String {
+    let (w, h, pad) = (900.0, 460.0, 60.0);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" font-family=\"sans-serif\" font-size=\"13\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    );
+    for (j, colour) in [(0usize, "#d62728"), (1usize, "#1f77b4")] {
+        let x0 = pad + j as f64 * (w / 2.0);
+        let pw = w / 2.0 - 1.5 * pad;
+        let ph = h - 2.0 * pad;
+        let xs = orbit.iter().chain(dots).map(|p| p.u[3 * j] * 1e6);
+        let ys = orbit.iter().chain(dots).map(|p| p.u[3 * j + 1] * 1e6);
+        let (xmin, xmax) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+        let (ymin, ymax) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+        let span = (xmax - xmin).max(ymax - ymin).max(1e-12) * 1.1;
+        let (cx, cy) = ((xmin + xmax) / 2.0, (ymin + ymax) / 2.0);
+        let px = |x: f64| x0 + pw / 2.0 + (x * 1e6 - cx) / span * pw.min(ph);
+        let py = |y: f64| pad + ph / 2.0 - (y * 1e6 - cy) / span * pw.min(ph);
+        let _ = writeln!(
+            s,
+            "<rect x=\"{x0}\" y=\"{pad}\" width=\"{pw}\" height=\"{ph}\" fill=\"none\" stroke=\"#999\"/>"
+        );
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">gear {}: u{}y over u{}x [um], x {:.3}..{:.3}, y {:.3}..{:.3}</text>",
+            x0 + pw / 2.0,
+            pad - 12.0,
+            j + 1,
+            j + 1,
+            j + 1,
+            xmin,
+            xmax,
+            ymin,
+            ymax
+        );
+        let mut path = String::new();
+        for (i, p) in orbit.iter().chain(orbit.first()).enumerate() {
+            let _ = write!(
+                path,
+                "{}{:.2},{:.2} ",
+                if i == 0 { "M" } else { "L" },
+                px(p.u[3 * j]),
+                py(p.u[3 * j + 1])
+            );
+        }
+        let _ = writeln!(
+            s,
+            "<path d=\"{path}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"/>"
+        );
+        for p in dots {
+            let _ = writeln!(
+                s,
+                "<circle cx=\"{:.2}\" cy=\"{:.2}\" r=\"3\" fill=\"{colour}\"/>",
+                px(p.u[3 * j]),
+                py(p.u[3 * j + 1])
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">Periodic orbit: solid line RADAU5 (shooting), dots harmonic approach n = {n}; red gear 1, blue gear 2</text>",
+        w / 2.0,
+        h - 20.0
+    );
+    s.push_str("</svg>\n");
+    s
+}
+
+fn run(a: &Args) -> Result<(), String> {
+    let mut sys = PeriodicSystem::new(a.params, a.omega1, 0.0).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let write = |name: &str, text: &str| {
+        let p = a.out.join(name);
+        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let (z0, _) = sys.static_equilibrium().map_err(|e| e.to_string())?;
+    let sopts = ShootingOptions::default();
+    let t0 = std::time::Instant::now();
+    let sh = shoot(&mut sys, &z0, &sopts).map_err(|e| e.to_string())?;
+    println!(
+        "shooting: T_m = {:.6e} s, residual {:.3e} after {} Newton iterations (history {:?}), {} RADAU5 steps per period, {:.2} s",
+        sys.period(),
+        sh.residual,
+        sh.iterations,
+        sh.residual_history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>(),
+        sh.steps_per_period,
+        t0.elapsed().as_secs_f64()
+    );
+    println!(
+        "Floquet multipliers (|.|): {}",
+        sh.floquet
+            .iter()
+            .map(|c| format!("{:.4}", c.norm()))
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    write("shooting_orbit.csv", &orbit_csv(&sh.orbit))?;
+    let mut fl = String::from("re,im,abs\n");
+    for c in &sh.floquet {
+        let _ = writeln!(fl, "{:.12e},{:.12e},{:.12e}", c.re, c.im, c.norm());
+    }
+    write("floquet.csv", &fl)?;
+
+    let hopts = HarmonicOptions::default();
+    let mut table = String::from("n,max_rel_dev,residual,newton_iterations\n");
+    let mut json_hb = Vec::new();
+    let mut prev: Option<HarmonicSolution> = None;
+    let mut n4: Option<HarmonicSolution> = None;
+    println!("harmonic approach vs shooting (max deviation of the centre positions / orbit size):");
+    for n in 1..=a.n_max {
+        let hb = harmonic_balance(&sys, n, prev.as_ref(), &hopts)
+            .map_err(|e| format!("n = {n}: {e}"))?;
+        let pts: Vec<OrbitPoint> = sh.orbit.iter().map(|p| hb.point(p.t)).collect();
+        let dev = max_rel_deviation(&pts, &sh.orbit);
+        println!(
+            "  n = {n:2}: {dev:.3e}  (residual {:.1e}, {} iterations)",
+            hb.residual, hb.iterations
+        );
+        let _ = writeln!(table, "{n},{dev:.6e},{:.3e},{}", hb.residual, hb.iterations);
+        json_hb.push(format!("{{\"n\": {n}, \"max_rel_dev\": {dev:.6e}}}"));
+        if n == 4 {
+            n4 = Some(hb.clone());
+        }
+        prev = Some(hb);
+    }
+    write("convergence.csv", &table)?;
+    if let Some(hb) = &n4 {
+        let dots = hb.orbit(48);
+        write("harmonic_orbit_n4.csv", &orbit_csv(&dots))?;
+        write("fig3.svg", &fig3_svg(&sh.orbit, &dots, 4))?;
+        println!("Fig. 3: {}", a.out.join("fig3.svg").display());
+    }
+    if a.json {
+        println!(
+            "{{\"shooting_residual\": {:.6e}, \"floquet_max_abs\": {:.6e}, \"hb\": [{}]}}",
+            sh.residual,
+            sh.floquet_max_abs(),
+            json_hb.join(", ")
+        );
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match parse_args().and_then(|a| run(&a)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("periodic: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

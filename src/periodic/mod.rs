@@ -1,0 +1,340 @@
+//! Periodic steady state of the geared rotor at constant drive speed (`model.md` §9.9,
+//! §9.10, §11): the paper's second result.
+//!
+//! With constant omega1 (drive filter at rest) the equations depend on time only through
+//! the mesh phase phi1 mod 2 pi / z1, so the steady state is periodic with the mesh
+//! period `T_m = 2 pi / (z1 omega1)`. Two independent ways to compute it:
+//! - [`shooting`]: Newton on the state at the start of a period, integrated over one period
+//!   with RADAU5; the monodromy matrix of the period map gives the Floquet multipliers;
+//! - [`harmonic`]: the n-th order harmonic approach, truncated Fourier series for the
+//!   displacements, the transmission error and lambda, with residuals evaluated in the time
+//!   domain (alternating frequency/time) and Newton on the Fourier coefficients.
+//!
+//! Both work on the reduced coordinates of [`PeriodicSystem`]: the six centre
+//! displacements and their velocities. The transmission-error coordinate xi follows from
+//! the position-level constraint g = 0 (the "non-holonomic" constraint of the paper is
+//! integrable, `model.md` §3.3), omega2 from the velocity-level constraint, lambda from the
+//! hidden constraint (§7); phi1 is the phase of the period and so not an unknown.
+
+pub mod harmonic;
+pub mod shooting;
+
+use crate::gear::ParamError;
+use crate::radau5::{self, Options, Radau5, Statistics, Tolerance};
+use crate::rotor::{idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, NY};
+use crate::sim::{RotorProblem, SCALES};
+use nalgebra::SVector;
+use std::f64::consts::PI;
+use std::fmt;
+
+/// Number of reduced coordinates: u1x u1y u1z u2x u2y u2z and their velocities.
+pub const NZ: usize = 12;
+
+/// Reduced state at the start of a mesh period.
+pub type Reduced = SVector<f64, NZ>;
+
+/// Why a periodic solution could not be computed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PeriodicError {
+    /// A parameter violates its bound.
+    Param(ParamError),
+    /// The model cannot be evaluated (e.g. no contact, inconsistent lambda).
+    Model(ModelError),
+    /// RADAU5 failed during a period integration.
+    Solver(radau5::Error),
+    /// omega1 must be positive and finite.
+    InvalidSpeed {
+        /// The rejected value [rad/s].
+        omega1: f64,
+    },
+    /// Newton did not reach the tolerance.
+    NoConvergence {
+        /// "shooting" or "harmonic balance".
+        method: &'static str,
+        /// Iterations taken.
+        iterations: usize,
+        /// Scaled residual reached.
+        residual: f64,
+    },
+    /// The Newton matrix is singular.
+    Singular {
+        /// "shooting" or "harmonic balance".
+        method: &'static str,
+    },
+}
+
+impl fmt::Display for PeriodicError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PeriodicError::Param(e) => write!(f, "{e}"),
+            PeriodicError::Model(e) => write!(f, "model: {e}"),
+            PeriodicError::Solver(e) => write!(f, "RADAU5: {e}"),
+            PeriodicError::InvalidSpeed { omega1 } => {
+                write!(f, "omega1 = {omega1} rad/s: a periodic orbit needs 0 < omega1 < inf")
+            }
+            PeriodicError::NoConvergence {
+                method,
+                iterations,
+                residual,
+            } => write!(
+                f,
+                "{method}: Newton did not converge in {iterations} iterations (scaled residual {residual:.3e})"
+            ),
+            PeriodicError::Singular { method } => write!(f, "{method}: singular Newton matrix"),
+        }
+    }
+}
+
+impl std::error::Error for PeriodicError {}
+
+impl From<ParamError> for PeriodicError {
+    fn from(e: ParamError) -> Self {
+        PeriodicError::Param(e)
+    }
+}
+impl From<ModelError> for PeriodicError {
+    fn from(e: ModelError) -> Self {
+        PeriodicError::Model(e)
+    }
+}
+impl From<radau5::Error> for PeriodicError {
+    fn from(e: radau5::Error) -> Self {
+        PeriodicError::Solver(e)
+    }
+}
+
+/// One sample of an orbit: time within the period and the centre displacements, the
+/// transmission-error coordinate xi and lambda.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitPoint {
+    /// Time since the start of the period [s].
+    pub t: f64,
+    /// u1x u1y u1z u2x u2y u2z [m].
+    pub u: [f64; 6],
+    /// Transmission-error coordinate xi [m] (`rotor::idx::Q`).
+    pub xi: f64,
+    /// Normal contact force lambda [N].
+    pub lambda: f64,
+}
+
+/// The geared rotor at one constant operating point, set up for periodic solutions.
+#[derive(Clone)]
+pub struct PeriodicSystem {
+    problem: RotorProblem,
+    omega1: f64,
+    period: f64,
+}
+
+impl PeriodicSystem {
+    /// The rotor with constant inputs `omega1`, `t_load`; phi1 = 0 at the start of a period,
+    /// g0 from the undisplaced state.
+    ///
+    /// # Errors
+    /// Invalid parameters or speed; a model that cannot be initialised.
+    pub fn new(params: Params, omega1: f64, t_load: f64) -> Result<Self, PeriodicError> {
+        if !(omega1 > 0.0 && omega1.is_finite()) {
+            return Err(PeriodicError::InvalidSpeed { omega1 });
+        }
+        let mut model = GearedRotor::new(params)?;
+        model.set_inputs(Inputs {
+            omega1,
+            t_load,
+            ..Inputs::default()
+        });
+        model.initialize(0.0)?;
+        let period = 2.0 * PI / (f64::from(params.gear.z1) * omega1);
+        Ok(PeriodicSystem {
+            problem: RotorProblem { model },
+            omega1,
+            period,
+        })
+    }
+
+    /// The mesh period `T_m = 2 pi / (z1 omega1)` [s].
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// Drive speed [rad/s].
+    pub fn omega1(&self) -> f64 {
+        self.omega1
+    }
+
+    /// The rotor model.
+    pub fn model(&self) -> &GearedRotor {
+        &self.problem.model
+    }
+
+    /// The frictionless static equilibrium (`GearedRotor::static_equilibrium`) as a
+    /// reduced state, and its lambda: the start of the transient and of the harmonic
+    /// approach.
+    ///
+    /// # Errors
+    /// See `GearedRotor::static_equilibrium`.
+    pub fn static_equilibrium(&self) -> Result<(Reduced, f64), PeriodicError> {
+        let (ic, lambda) = self.model().static_equilibrium(0.0, 0.0)?;
+        let mut z = Reduced::zeros();
+        for i in 0..6 {
+            z[i] = ic.u[i];
+        }
+        Ok((z, lambda))
+    }
+
+    /// Scales of the reduced coordinates: displacements by the static deflection under the
+    /// nominal load (at least 1 nm), velocities by that times the mesh frequency 2 pi / T_m.
+    pub fn scales(&self) -> Reduced {
+        let g = self.model().geometry();
+        let p = self.model().params();
+        let lambda = (p.d_phi * self.omega1 * g.rb1 / g.rb2).abs() / (g.rb2 * g.cos_beta_b);
+        let k = [p.rotor1.k, p.rotor2.k];
+        let mut s = Reduced::zeros();
+        let w = 2.0 * PI / self.period;
+        for j in 0..2 {
+            for a in 0..3 {
+                let d = if k[j][a] > 0.0 { lambda / k[j][a] } else { 0.0 };
+                s[3 * j + a] = d.max(1e-9);
+                s[6 + 3 * j + a] = s[3 * j + a] * w;
+            }
+        }
+        s
+    }
+
+    /// Full consistent state at the start of a period (t = 0, phi1 = 0) from the reduced
+    /// coordinates: xi from g = 0, omega2 from the velocity constraint, lambda from the
+    /// hidden constraint (`model.md` §3.3, §7), filter at rest, energies zero.
+    ///
+    /// # Errors
+    /// Mesh, contact or lambda errors.
+    pub fn lift(&self, z: &Reduced) -> Result<SVector<f64, NY>, PeriodicError> {
+        let model = self.model();
+        let g = model.geometry();
+        let mut ic = InitialConditions::default();
+        for i in 0..6 {
+            ic.u[i] = z[i];
+            ic.u_dot[i] = z[6 + i];
+        }
+        let mut y = SVector::<f64, NY>::zeros();
+        for i in 0..6 {
+            y[idx::Q + i] = ic.u[i];
+            y[idx::V + i] = ic.u_dot[i];
+        }
+        y[idx::OMEGA1] = self.omega1;
+        let m = model.mesh(0.0, &y)?;
+        y[idx::Q + 6] = -model.gap_offset() - g.gap_raw(&m, 0.0);
+        let grow = g.constraint_row(&m);
+        let gv: f64 = (0..6).map(|i| grow[i] * ic.u_dot[i]).sum();
+        y[idx::V + 6] = (g.rb1 * g.cos_beta_b * self.omega1 - gv) / grow[6];
+        y[idx::LAMBDA] = model.consistent_lambda(0.0, &y)?;
+        Ok(y)
+    }
+
+    /// The reduced coordinates of a full state.
+    pub fn reduce(y: &SVector<f64, NY>) -> Reduced {
+        let mut z = Reduced::zeros();
+        for i in 0..6 {
+            z[i] = y[idx::Q + i];
+            z[6 + i] = y[idx::V + i];
+        }
+        z
+    }
+
+    /// RADAU5 options for the period integrations: scalar rtol, atol = rtol times the
+    /// physical scales of the FMU (`sim::SCALES`), index counts of the rotor DAE.
+    fn options(rtol: f64) -> Options<NY> {
+        Options {
+            rtol: Tolerance::Scalar(rtol),
+            atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| rtol * SCALES[i])),
+            n1: crate::rotor::N_INDEX1,
+            n2: crate::rotor::N_INDEX2,
+            max_steps: 1_000_000,
+            ..Options::default()
+        }
+    }
+
+    /// Integrates from the consistent lift of `z` over `periods` mesh periods with RADAU5
+    /// at `rtol` and returns the reduced end state and the solver statistics. When
+    /// `samples` is given, the last period is sampled at that many equidistant times
+    /// (dense output, the steps are not changed by the sampling).
+    ///
+    /// # Errors
+    /// Lift or solver errors.
+    pub fn integrate(
+        &mut self,
+        z: &Reduced,
+        periods: usize,
+        rtol: f64,
+        samples: Option<(usize, &mut Vec<OrbitPoint>)>,
+    ) -> Result<(Reduced, Statistics), PeriodicError> {
+        let y0 = self.lift(z)?;
+        let mut solver = Radau5::new(&mut self.problem, Self::options(rtol), 0.0, y0)?;
+        let t_end = periods as f64 * self.period;
+        let t_last = t_end - self.period;
+        match samples {
+            None => solver.integrate_to(&mut self.problem, t_end)?,
+            Some((n, out)) => {
+                out.clear();
+                solver.integrate_to(&mut self.problem, t_last)?;
+                let mut next = 0usize;
+                let mut y = SVector::<f64, NY>::zeros();
+                let mut push = |s: &Radau5<NY>, next: &mut usize, upto: f64| {
+                    while *next < n {
+                        let ts = t_last + self.period * (*next as f64) / (n as f64);
+                        if ts > upto {
+                            break;
+                        }
+                        if ts == s.t() {
+                            y.copy_from(s.y());
+                        } else {
+                            s.dense_output(ts, &mut y);
+                        }
+                        let mut u = [0.0; 6];
+                        for (i, ui) in u.iter_mut().enumerate() {
+                            *ui = y[idx::Q + i];
+                        }
+                        out.push(OrbitPoint {
+                            t: ts - t_last,
+                            u,
+                            xi: y[idx::Q + 6],
+                            lambda: y[idx::LAMBDA],
+                        });
+                        *next += 1;
+                    }
+                };
+                push(&solver, &mut next, t_last);
+                while solver.t() < t_end {
+                    solver.step(&mut self.problem, t_end)?;
+                    push(&solver, &mut next, solver.t());
+                }
+            }
+        }
+        Ok((Self::reduce(solver.y()), *solver.stats()))
+    }
+}
+
+/// Largest deviation of the centre positions (x-y plane, both gears) of an approximate
+/// orbit from a reference orbit sampled at the same times, relative to the reference
+/// orbit's peak-to-peak size: `max_t max_j |c_j(t) - c_j_ref(t)| / max_j pp_j`, with
+/// `pp_j` the larger of the x and y peak-to-peak ranges of gear j's centre.
+pub fn max_rel_deviation(approx: &[OrbitPoint], reference: &[OrbitPoint]) -> f64 {
+    let mut pp: f64 = 0.0;
+    for j in 0..2 {
+        for a in 0..2 {
+            let k = 3 * j + a;
+            let (lo, hi) = reference
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p.u[k]), hi.max(p.u[k]))
+                });
+            pp = pp.max(hi - lo);
+        }
+    }
+    let mut dev: f64 = 0.0;
+    for (p, r) in approx.iter().zip(reference) {
+        for j in 0..2 {
+            let dx = p.u[3 * j] - r.u[3 * j];
+            let dy = p.u[3 * j + 1] - r.u[3 * j + 1];
+            dev = dev.max(dx.hypot(dy));
+        }
+    }
+    dev / pp
+}

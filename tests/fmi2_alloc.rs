@@ -1,0 +1,77 @@
+//! No heap allocation per step: a counting global allocator (per thread) around
+//! fmi2DoStep + fmi2GetReal after warm-up, with logging off, for small communication steps
+//! (about one internal step each), a long step (many internal steps) and held input changes.
+
+mod fmi2_common;
+
+use fmi2_common::Fmu;
+use geared_rotor::fmi2::types::Fmi2Status;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static COUNT: Cell<u64> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        COUNT.with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        COUNT.with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+fn allocations() -> u64 {
+    COUNT.with(|c| c.get())
+}
+
+#[test]
+fn do_step_and_get_real_do_not_allocate() {
+    let f = Fmu::new("alloc", false);
+    f.init();
+    let h = 1e-5;
+    let mut t = 0.0;
+    for _ in 0..20 {
+        assert_eq!(f.step(t, h), Fmi2Status::OK);
+        t += h;
+    }
+    let outs: Vec<u32> = geared_rotor::fmi2::variables::VARIABLES
+        .iter()
+        .filter(|v| {
+            v.causality == geared_rotor::fmi2::variables::Causality::Output
+                && v.ty == geared_rotor::fmi2::variables::VarType::Real
+        })
+        .map(|v| v.vr)
+        .collect();
+    let mut vals = vec![0.0; outs.len()];
+    let omega1 = geared_rotor::fmi2::variables::by_name("omega1").unwrap().vr;
+    let before = allocations();
+    for k in 0..500 {
+        assert_eq!(f.step(t, h), Fmi2Status::OK);
+        t += h;
+        let st = unsafe {
+            geared_rotor::fmi2::fmi2GetReal(f.c, outs.as_ptr(), outs.len(), vals.as_mut_ptr())
+        };
+        assert_eq!(st, Fmi2Status::OK);
+        // A master re-setting an unchanged input, and a held input step every 100 steps.
+        let w = if (k / 100) % 2 == 0 { 314.159 } else { 320.0 };
+        let st = unsafe { geared_rotor::fmi2::fmi2SetReal(f.c, &omega1, 1, &w) };
+        assert_eq!(st, Fmi2Status::OK);
+    }
+    // One long communication step (many internal steps).
+    assert_eq!(f.step(t, 2e-3), Fmi2Status::OK);
+    let n = allocations() - before;
+    assert_eq!(n, 0, "{n} heap allocations in 501 doSteps");
+    assert!(f.messages().is_empty());
+}
