@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
 # All tests: the Rust tests (cargo test --release) and the FMPy suite (pytest
-# tests/, which builds target/fmu/GearedRotor.fmu once). Runs both, prints both
+# tests/ on target/fmu/GearedRotor.fmu). Runs both, prints both
 # summaries, fails if either failed. Extra arguments go to pytest.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 mkdir -p target
 status=0
 
-echo "== cargo test --release"
+# Build the cdylib (target/release/libgeared_rotor.so, which tests/fmi2_exports.rs
+# dlopens) and the .fmu first: `cargo test` alone does not place the cdylib there.
+echo "== cargo build --release; cargo run --release --bin package-fmu"
+cargo build --release
+cargo run --release --quiet --bin package-fmu
+
+echo "== cargo test --release --no-fail-fast"
 set +e
-cargo test --release 2>&1 | tee target/cargo-test.log
+cargo test --release --no-fail-fast 2>&1 | tee target/cargo-test.log
 cargo_rc=${PIPESTATUS[0]}
 set -e
 [ "$cargo_rc" -eq 0 ] || status=1
