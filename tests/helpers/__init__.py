@@ -1,0 +1,1 @@
+"""Shared helpers of the FMPy test suite, the main job and the benchmarks."""
