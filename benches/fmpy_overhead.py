@@ -32,7 +32,6 @@ from helpers.fmu_harness import FMU_PATH, FmuPackage, build_fmu  # noqa: E402
 
 # Candidates for the in-process Rust benchmark binary (first one that exists is
 # run with `cargo run --release --bin/--example NAME`).
-# TODO lead: align with the name the FMU/RADAU5 helpers gave their bench.
 RUST_BENCH = [("example", "fmu_bench"), ("bin", "bench-inprocess")]
 
 

@@ -215,13 +215,6 @@ def test_known_log_categories_accepted(fresh, pkg):
     assert any(r.category == "logSolver" for r in inst.log), "no logSolver message while enabled"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="FMU deviation: fmi2SetDebugLogging(on, [cats]) changes only the listed categories "
-    "(src/fmi2/instance.rs set_debug_logging starts from the current set); FMI 2.0 section "
-    "2.1.5: with nCategories > 0 only the listed categories shall be logged. Remove this "
-    "marker when fixed.",
-)
 def test_debug_logging_filters_by_category(fresh):
     """FMI 2.0: loggingOn with a list of categories prints only those; loggingOn
     = false prints none of the debug categories (errors are still reported)."""
