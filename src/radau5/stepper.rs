@@ -31,6 +31,138 @@ pub struct Radau5<const N: usize> {
     tab: Tableau,
     /// Nonzero columns of each row of M (derived from `st.mass`, not part of the state).
     pub(crate) pattern: MassPattern<N>,
+    /// Split into factorised and quadrature components (from `Options::quadrature`; a
+    /// property of the problem, not part of the state: a restored snapshot keeps it).
+    pub(crate) blocks: Blocks<N>,
+}
+
+/// Components split by [`Options::quadrature`]: `dyn_idx[..nd]` are factorised,
+/// `quad_idx[..nq]` are pure quadratures. With quadratures ordered last (as a
+/// permutation), `E = c M - J` (c = gamma/h or (alpha + i beta)/h) reads
+///
+/// ```text
+/// [ E_dd   0  ] [x_d]   [b_d]
+/// [ -J_qd  c I] [x_q] = [b_q]
+/// ```
+///
+/// because column q of J is zero and row/column q of M are those of I. So
+/// `x_d = E_dd^-1 b_d` and `x_q = (b_q + J_qd x_d)/c`: the LUs shrink from N to nd
+/// (cost ~nd^3 instead of N^3), the solves from N^2 to nd^2 + nq nd.
+#[derive(Debug, Clone)]
+pub(crate) struct Blocks<const N: usize> {
+    nd: usize,
+    dyn_idx: [usize; N],
+    nq: usize,
+    quad_idx: [usize; N],
+}
+
+impl<const N: usize> Blocks<N> {
+    /// Checks the declared quadratures against M and the index counts.
+    fn new(quad: &[bool; N], mass: Option<&SMatrix<f64, N, N>>, n1: usize) -> Result<Self, Error> {
+        let mut b = Blocks {
+            nd: 0,
+            dyn_idx: [0; N],
+            nq: 0,
+            quad_idx: [0; N],
+        };
+        for i in 0..N {
+            if !quad[i] {
+                b.dyn_idx[b.nd] = i;
+                b.nd += 1;
+                continue;
+            }
+            let identity_row_col = mass.is_none_or(|m| {
+                (0..N).all(|j| {
+                    let e = if i == j { 1.0 } else { 0.0 };
+                    m[(i, j)] == e && m[(j, i)] == e
+                })
+            });
+            if i >= n1 || !identity_row_col {
+                return Err(Error::InvalidOption {
+                    name: "quadrature",
+                    value: i as f64,
+                    requirement: "an index-1 component with an identity row and column of M",
+                });
+            }
+            b.quad_idx[b.nq] = i;
+            b.nq += 1;
+        }
+        Ok(b)
+    }
+
+    /// No quadratures declared (the Fortran's full LUs).
+    pub(crate) fn none() -> Self {
+        Blocks {
+            nd: N,
+            dyn_idx: std::array::from_fn(|i| i),
+            nq: 0,
+            quad_idx: [0; N],
+        }
+    }
+
+    /// Solves `E1 x = b` in place (`E1 = fac1 M - J` factorised by [`Radau5::decompose`]).
+    #[inline]
+    fn solve1(&self, lu: &RealLu<N>, jac: &SMatrix<f64, N, N>, fac1: f64, b: &mut SVector<f64, N>) {
+        if self.nq == 0 {
+            lu.solve(b);
+            return;
+        }
+        let (nd, di) = (self.nd, &self.dyn_idx);
+        let mut c = SVector::<f64, N>::zeros();
+        for r in 0..nd {
+            c[r] = b[di[r]];
+        }
+        lu.solve_leading(nd, &mut c);
+        for r in 0..nd {
+            b[di[r]] = c[r];
+        }
+        for &i in &self.quad_idx[..self.nq] {
+            let mut sum = b[i];
+            for r in 0..nd {
+                sum += jac[(i, di[r])] * c[r];
+            }
+            b[i] = sum / fac1;
+        }
+    }
+
+    /// Solves `E2 (xr + i xi) = br + i bi` in place (`E2 = (alphn + i betan) M - J`).
+    #[inline]
+    fn solve2(
+        &self,
+        lu: &ComplexLu<N>,
+        jac: &SMatrix<f64, N, N>,
+        (alphn, betan): (f64, f64),
+        br: &mut SVector<f64, N>,
+        bi: &mut SVector<f64, N>,
+    ) {
+        if self.nq == 0 {
+            lu.solve(br, bi);
+            return;
+        }
+        let (nd, di) = (self.nd, &self.dyn_idx);
+        let mut cr = SVector::<f64, N>::zeros();
+        let mut ci = SVector::<f64, N>::zeros();
+        for r in 0..nd {
+            cr[r] = br[di[r]];
+            ci[r] = bi[di[r]];
+        }
+        lu.solve_leading(nd, &mut cr, &mut ci);
+        for r in 0..nd {
+            br[di[r]] = cr[r];
+            bi[di[r]] = ci[r];
+        }
+        let den = alphn * alphn + betan * betan;
+        for &i in &self.quad_idx[..self.nq] {
+            let (mut sr, mut si) = (br[i], bi[i]);
+            for r in 0..nd {
+                let jv = jac[(i, di[r])];
+                sr += jv * cr[r];
+                si += jv * ci[r];
+            }
+            br[i] = (sr * alphn + si * betan) / den;
+            bi[i] = (si * alphn - sr * betan) / den;
+        }
+    }
 }
 
 /// Row-wise nonzero pattern of the mass matrix. Products `M x` skip the structural
@@ -117,6 +249,11 @@ impl<const N: usize> Radau5<N> {
             });
         }
         let mass = problem.mass();
+        let blocks = if options.quadrature.iter().any(|&q| q) {
+            Blocks::new(&options.quadrature, mass.as_ref(), params.n1)?
+        } else {
+            Blocks::none()
+        };
         let tab = Tableau::new();
         let h = params.h_init;
         let mut st = State {
@@ -164,7 +301,12 @@ impl<const N: usize> Radau5<N> {
         st.f0 = f0;
         st.f0_valid = true;
         let pattern = MassPattern::new(&st.mass);
-        Ok(Radau5 { st, tab, pattern })
+        Ok(Radau5 {
+            st,
+            tab,
+            pattern,
+            blocks,
+        })
     }
 
     /// Maps a failed evaluation of f at an accepted point (start, restart, after a stop
@@ -318,7 +460,10 @@ impl<const N: usize> Radau5<N> {
         }
         let mut ytmp = s.y;
         let mut ft = SVector::<f64, N>::zeros();
-        for i in 0..N {
+        for &i in &self.blocks.quad_idx[..self.blocks.nq] {
+            s.jac.column_mut(i).fill(0.0);
+        }
+        for &i in &self.blocks.dyn_idx[..self.blocks.nd] {
             let ysafe = ytmp[i];
             let delt = (s.params.uround * 1.0e-5f64.max(ysafe.abs())).sqrt();
             ytmp[i] = ysafe + delt;
@@ -338,6 +483,33 @@ impl<const N: usize> Radau5<N> {
         let fac1 = self.tab.gamma / h;
         let alphn = self.tab.alpha / h;
         let betan = self.tab.beta / h;
+        let blk = &self.blocks;
+        if blk.nq > 0 {
+            // Leading nd x nd block of the non-quadrature components (see `Blocks`).
+            let di = &blk.dyn_idx[..blk.nd];
+            for (c, &j) in di.iter().enumerate() {
+                for (r, &i) in di.iter().enumerate() {
+                    let bb = if s.has_mass {
+                        s.mass[(i, j)]
+                    } else if i == j {
+                        1.0
+                    } else {
+                        0.0
+                    };
+                    s.lu1.a[(r, c)] = bb * fac1 - s.jac[(i, j)];
+                    s.lu2.a[(r, c)] = Complex::new(bb * alphn - s.jac[(i, j)], bb * betan);
+                }
+            }
+            let ok = s.lu1.factor_leading(blk.nd).is_ok() && s.lu2.factor_leading(blk.nd).is_ok();
+            if !ok {
+                s.lu_valid = false;
+                return Err(());
+            }
+            s.stats.ndec += 1;
+            s.h_lu = h;
+            s.lu_valid = true;
+            return Ok(());
+        }
         if s.has_mass {
             for j in 0..N {
                 for i in 0..N {
@@ -542,6 +714,7 @@ impl<const N: usize> Radau5<N> {
             }
             // ---- label 30: the attempt
             let pat = &self.pattern;
+            let blk = &self.blocks;
             let s = &mut self.st;
             s.stats.nstep += 1;
             s.steps_since_stop += 1;
@@ -653,8 +826,8 @@ impl<const N: usize> Radau5<N> {
                         z3[i] = z3[i] + s3 * alphn + s2 * betan;
                     }
                 }
-                s.lu1.solve(&mut z1);
-                s.lu2.solve(&mut z2, &mut z3);
+                blk.solve1(&s.lu1, &s.jac, fac1, &mut z1);
+                blk.solve2(&s.lu2, &s.jac, (alphn, betan), &mut z2, &mut z3);
                 s.stats.nsol += 1;
                 newt += 1;
                 let mut dyno = 0.0;
@@ -749,7 +922,7 @@ impl<const N: usize> Radau5<N> {
                     cont[i] = fm[i] + s.f0[i];
                 }
             }
-            s.lu1.solve(&mut cont);
+            blk.solve1(&s.lu1, &s.jac, fac1, &mut cont);
             let mut err = Self::scaled_rms(&cont, &s.scal);
             if (err.is_nan() || err >= 1.0) && (s.first || s.reject) {
                 a1.copy_from(&s.y);
@@ -762,7 +935,7 @@ impl<const N: usize> Radau5<N> {
                 for i in 0..N {
                     cont[i] = a2[i] + fm[i];
                 }
-                s.lu1.solve(&mut cont);
+                blk.solve1(&s.lu1, &s.jac, fac1, &mut cont);
                 err = Self::scaled_rms(&cont, &s.scal);
             }
             if err.is_nan() {
