@@ -152,3 +152,122 @@ fn bad_quadrature_declarations_are_rejected() {
         })
     ));
 }
+
+/// Damped oscillator x' = v, v' = -k x - c v, plus q' = v^2 (a quadrature):
+/// y = (x, v, q) with the second-order structure (m1, m2) = (1, 1).
+struct Oscillator {
+    k: f64,
+    c: f64,
+    with_jac: bool,
+    mass: Option<SMatrix<f64, 3, 3>>,
+}
+
+impl Problem<3> for Oscillator {
+    fn rhs(
+        &mut self,
+        _t: f64,
+        y: &SVector<f64, 3>,
+        f: &mut SVector<f64, 3>,
+    ) -> Result<(), RhsError> {
+        f[0] = y[1];
+        f[1] = -self.k * y[0] - self.c * y[1];
+        f[2] = y[1] * y[1];
+        Ok(())
+    }
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        y: &SVector<f64, 3>,
+        j: &mut SMatrix<f64, 3, 3>,
+    ) -> Result<bool, RhsError> {
+        if !self.with_jac {
+            return Ok(false);
+        }
+        j.fill(0.0);
+        j[(0, 1)] = 1.0;
+        j[(1, 0)] = -self.k;
+        j[(1, 1)] = -self.c;
+        j[(2, 1)] = 2.0 * y[1];
+        Ok(true)
+    }
+    fn mass(&self) -> Option<SMatrix<f64, 3, 3>> {
+        self.mass
+    }
+}
+
+#[test]
+fn second_order_elimination_matches_closed_form_and_energy_balance() {
+    let (k, c) = (1.0e4, 20.0);
+    // Underdamped: x = e^(-z w t) (cos(wd t) + z w / wd sin(wd t)), x(0) = 1, v(0) = 0.
+    let w = f64::sqrt(k);
+    let zw = c / 2.0;
+    let wd = (w * w - zw * zw).sqrt();
+    let t_end = 0.3;
+    let x_exact = (-zw * t_end).exp() * ((wd * t_end).cos() + zw / wd * (wd * t_end).sin());
+    let v_exact = -(-zw * t_end).exp() * (w * w / wd) * (wd * t_end).sin();
+    // Energy balance: d/dt (v^2/2 + k x^2/2) = -c v^2, so int v^2 = (E0 - E)/c.
+    let q_exact = (0.5 * k - 0.5 * v_exact * v_exact - 0.5 * k * x_exact * x_exact) / c;
+    for (with_jac, jac) in [
+        (true, JacobianMode::Analytic),
+        (true, JacobianMode::FiniteDifference),
+    ] {
+        for mass in [None, Some(SMatrix::<f64, 3, 3>::identity())] {
+            let mut p = Oscillator {
+                k,
+                c,
+                with_jac,
+                mass,
+            };
+            let o = |structured: bool| Options {
+                rtol: Tolerance::Scalar(1e-10),
+                atol: Tolerance::Scalar(1e-12),
+                jacobian: jac,
+                quadrature: [false, false, structured],
+                second_order: structured.then_some((1, 1)),
+                ..Options::default()
+            };
+            let y0 = SVector::<f64, 3>::new(1.0, 0.0, 0.0);
+            let mut full = Radau5::new(&mut p, o(false), 0.0, y0).expect("valid");
+            full.integrate_to(&mut p, t_end).expect("integrates");
+            let mut red = Radau5::new(&mut p, o(true), 0.0, y0).expect("valid");
+            red.integrate_to(&mut p, t_end).expect("integrates");
+            let y = red.y();
+            let errs = [
+                (y[0] - x_exact).abs(),
+                (y[1] - v_exact).abs() / w,
+                (y[2] - q_exact).abs() / q_exact,
+            ];
+            for e in errs {
+                assert!(
+                    e < 1e-7,
+                    "errors {errs:?}, jac {jac:?}, mass {}",
+                    mass.is_some()
+                );
+            }
+            let (sr, sf) = (red.stats(), full.stats());
+            assert!(
+                sr.naccpt.abs_diff(sf.naccpt) <= 2 + sf.naccpt / 20
+                    && sr.nsol.abs_diff(sf.nsol) <= 2 + sf.nsol / 10,
+                "{sr:?} vs {sf:?}"
+            );
+        }
+    }
+    // Partners must come after the eliminated block.
+    let mut p = Oscillator {
+        k,
+        c,
+        with_jac: true,
+        mass: None,
+    };
+    let o = Options {
+        second_order: Some((2, 1)),
+        ..Options::default()
+    };
+    assert!(matches!(
+        Radau5::new(&mut p, o, 0.0, SVector::<f64, 3>::new(1.0, 0.0, 0.0)),
+        Err(Error::InvalidOption {
+            name: "second_order",
+            ..
+        })
+    ));
+}

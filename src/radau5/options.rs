@@ -102,6 +102,12 @@ pub struct Options<const N: usize> {
     /// difference Jacobian skips column i. Entries of J in such a column are ignored.
     /// Changes rounding (not the method): keep it off for Fortran parity.
     pub quadrature: [bool; N],
+    /// Second-order structure `(m1, m2)` (the Fortran's `IWORK(9)`, `IWORK(10)`; default
+    /// none): `y_i' = y_(i+m2)` for `i < m1`, with identity rows and columns of M there.
+    /// The stepper then eliminates these components from the linear systems (LUs of
+    /// size N - m1 - #quadratures). Rows `i < m1` of J are taken as `e_(i+m2)` whatever the
+    /// Jacobian says. Changes rounding (not the method): keep it off for Fortran parity.
+    pub second_order: Option<(usize, usize)>,
 }
 
 impl<const N: usize> Default for Options<N> {
@@ -127,6 +133,7 @@ impl<const N: usize> Default for Options<N> {
             keep_h_lo: 1.0,
             keep_h_hi: 1.2,
             quadrature: [false; N],
+            second_order: None,
         }
     }
 }

@@ -146,6 +146,9 @@ impl SolverSettings {
             // E_IN..E_LOAD enter no right-hand side (zero Jacobian columns, identity rows
             // of M_ext): factorise 18 x 18 instead of 22 x 22 (radau5 `Options::quadrature`).
             quadrature: std::array::from_fn(|i| (idx::E_IN..=idx::E_LOAD).contains(&i)),
+            // u_i' = v_i (i < 6, v = y[7..]): eliminated from the linear systems, which
+            // leaves 12 x 12 LUs (radau5 `Options::second_order`, Fortran IWORK(9..10)).
+            second_order: Some((6, idx::V)),
             ..Options::default()
         }
     }
