@@ -151,6 +151,7 @@ impl<const N: usize> Blocks<N> {
 
     /// Builds the reduced `E1 = fac1 M_dd - J_dd + J_dk P^T / fac1` and
     /// `E2 = c2 M_dd - J_dd + J_dk P^T / c2` (c2 = alphn + i betan) and factorises them.
+    #[inline(never)]
     fn decompose(&self, s: &mut State<N>, fac1: f64, (alphn, betan): (f64, f64)) -> Result<(), ()> {
         let di = &self.dyn_idx[..self.nd];
         let den = alphn * alphn + betan * betan;
@@ -184,13 +185,26 @@ impl<const N: usize> Blocks<N> {
         }
     }
 
-    /// Solves `E1 x = b` in place (`E1 = fac1 M - J` factorised by [`Blocks::decompose`]).
-    #[inline]
+    /// Solves `E1 x = b` in place (`E1 = fac1 M - J` factorised by [`Radau5::decompose`]).
+    /// Inlined so that the default (full) path is the plain `SOL` call it always was.
+    #[inline(always)]
     fn solve1(&self, lu: &RealLu<N>, jac: &SMatrix<f64, N, N>, fac1: f64, b: &mut SVector<f64, N>) {
         if self.full() {
             lu.solve(b);
-            return;
+        } else {
+            self.solve1_reduced(lu, jac, fac1, b);
         }
+    }
+
+    /// [`Blocks::solve1`] with eliminated components.
+    #[inline(never)]
+    fn solve1_reduced(
+        &self,
+        lu: &RealLu<N>,
+        jac: &SMatrix<f64, N, N>,
+        fac1: f64,
+        b: &mut SVector<f64, N>,
+    ) {
         let (nd, di) = (self.nd, &self.dyn_idx);
         let ki = &self.kin_idx[..self.nk];
         let mut c = SVector::<f64, N>::zeros();
@@ -222,8 +236,25 @@ impl<const N: usize> Blocks<N> {
     }
 
     /// Solves `E2 (xr + i xi) = br + i bi` in place (`E2 = (alphn + i betan) M - J`).
-    #[inline]
+    #[inline(always)]
     fn solve2(
+        &self,
+        lu: &ComplexLu<N>,
+        jac: &SMatrix<f64, N, N>,
+        ab: (f64, f64),
+        br: &mut SVector<f64, N>,
+        bi: &mut SVector<f64, N>,
+    ) {
+        if self.full() {
+            lu.solve(br, bi);
+        } else {
+            self.solve2_reduced(lu, jac, ab, br, bi);
+        }
+    }
+
+    /// [`Blocks::solve2`] with eliminated components.
+    #[inline(never)]
+    fn solve2_reduced(
         &self,
         lu: &ComplexLu<N>,
         jac: &SMatrix<f64, N, N>,
@@ -231,10 +262,6 @@ impl<const N: usize> Blocks<N> {
         br: &mut SVector<f64, N>,
         bi: &mut SVector<f64, N>,
     ) {
-        if self.full() {
-            lu.solve(br, bi);
-            return;
-        }
         let (nd, di) = (self.nd, &self.dyn_idx);
         let ki = &self.kin_idx[..self.nk];
         let den = alphn * alphn + betan * betan;
