@@ -157,6 +157,7 @@ impl<const N: usize> Blocks<N> {
         let den = alphn * alphn + betan * betan;
         // 1/c2 = (alphn - i betan)/den.
         let (ir, ii) = (alphn / den, -betan / den);
+        let inv1 = 1.0 / fac1;
         for (c, &j) in di.iter().enumerate() {
             let kj = self.kin_of_dyn[c];
             for (r, &i) in di.iter().enumerate() {
@@ -171,7 +172,7 @@ impl<const N: usize> Blocks<N> {
                 let mut e2 = Complex::new(bb * alphn - s.jac[(i, j)], bb * betan);
                 if kj < N {
                     let jk = s.jac[(i, kj)];
-                    e1 -= jk / fac1;
+                    e1 -= jk * inv1;
                     e2 = Complex::new(e2.re - jk * ir, e2.im - jk * ii);
                 }
                 s.lu1.a[(r, c)] = e1;
@@ -207,12 +208,17 @@ impl<const N: usize> Blocks<N> {
     ) {
         let (nd, di) = (self.nd, &self.dyn_idx);
         let ki = &self.kin_idx[..self.nk];
+        // b_k / fac1 once per K component (not per row: divisions are slow).
+        let mut q = [0.0; N];
+        for (n, &k) in ki.iter().enumerate() {
+            q[n] = b[k] / fac1;
+        }
         let mut c = SVector::<f64, N>::zeros();
         for r in 0..nd {
             let i = di[r];
             let mut sum = b[i];
-            for &k in ki {
-                sum += jac[(i, k)] * b[k] / fac1;
+            for (n, &k) in ki.iter().enumerate() {
+                sum += jac[(i, k)] * q[n];
             }
             c[r] = sum;
         }
