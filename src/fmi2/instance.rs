@@ -797,20 +797,24 @@ impl Instance {
         variables::lookup(ty, vr).ok_or(FmuError::UnknownValueReference { func, vr })
     }
 
-    fn current_outputs(&mut self, func: &'static str) -> Result<Outputs, FmuError> {
+    /// The outputs at the current time, computed once per time point and cached; returned
+    /// by reference (the struct is ~0.5 kB: copying it per value reference made a GetReal
+    /// of all outputs cost as much as an internal step).
+    fn current_outputs(&mut self, func: &'static str) -> Result<&Outputs, FmuError> {
         if self.phase == Phase::InitializationMode {
             self.ensure_sim(func)?;
         }
-        if let Some(o) = self.outputs {
-            return Ok(o);
+        if self.outputs.is_none() {
+            let sim = self.sim.as_ref().ok_or_else(|| FmuError::BadArgument {
+                func,
+                message: "outputs are not available: the model was not initialised".into(),
+            })?;
+            self.outputs = Some(sim.outputs());
         }
-        let sim = self.sim.as_ref().ok_or_else(|| FmuError::BadArgument {
+        self.outputs.as_ref().ok_or_else(|| FmuError::BadArgument {
             func,
-            message: "outputs are not available: the model was not initialised".into(),
-        })?;
-        let o = sim.outputs();
-        self.outputs = Some(o);
-        Ok(o)
+            message: "outputs are not available".into(),
+        })
     }
 
     fn value_of(&mut self, func: &'static str, var: &'static Variable) -> Result<f64, FmuError> {
@@ -838,7 +842,7 @@ impl Instance {
             }
             Causality::Output => {
                 let o = self.current_outputs(func)?;
-                output_value(&o, var.var).ok_or_else(|| FmuError::BadArgument {
+                output_value(o, var.var).ok_or_else(|| FmuError::BadArgument {
                     func,
                     message: format!("{} has no value", var.name),
                 })

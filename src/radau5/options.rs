@@ -94,6 +94,20 @@ pub struct Options<const N: usize> {
     /// converged fast (`WORK(5)`, `WORK(6)`: defaults 1.0 and 1.2).
     pub keep_h_lo: f64,
     pub keep_h_hi: f64,
+    /// Pure quadrature components (not in the Fortran; default none): `quadrature[i]` says
+    /// that y_i enters no right-hand side (column i of J is zero) and has an identity row
+    /// and column in M (index-1, `y_i' = f_i(t, y)`), e.g. energy accumulators. Then
+    /// `E1`, `E2` are block lower-triangular: the stepper factorises only the block of the
+    /// other components and gets y_i by forward substitution (radau5.md §4), and a
+    /// difference Jacobian skips column i. Entries of J in such a column are ignored.
+    /// Changes rounding (not the method): keep it off for Fortran parity.
+    pub quadrature: [bool; N],
+    /// Second-order structure `(m1, m2)` (the Fortran's `IWORK(9)`, `IWORK(10)`; default
+    /// none): `y_i' = y_(i+m2)` for `i < m1`, with identity rows and columns of M there.
+    /// The stepper then eliminates these components from the linear systems (LUs of
+    /// size N - m1 - #quadratures). Rows `i < m1` of J are taken as `e_(i+m2)` whatever the
+    /// Jacobian says. Changes rounding (not the method): keep it off for Fortran parity.
+    pub second_order: Option<(usize, usize)>,
 }
 
 impl<const N: usize> Default for Options<N> {
@@ -118,6 +132,8 @@ impl<const N: usize> Default for Options<N> {
             fac_max: 8.0,
             keep_h_lo: 1.0,
             keep_h_hi: 1.2,
+            quadrature: [false; N],
+            second_order: None,
         }
     }
 }

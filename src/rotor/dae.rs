@@ -425,9 +425,25 @@ impl GearedRotor {
     /// Mesh/contact errors; [`ModelError::InconsistentLambda`] when not exactly one
     /// assumption is consistent (|B| >= A, friction-induced ambiguity).
     pub fn consistent_lambda(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, ModelError> {
-        let g = &self.geom;
         let m = self.mesh(t, y)?;
         let sums = self.friction_sums(t, y, &m)?;
+        self.consistent_lambda_with(t, y, &m, &sums)
+    }
+
+    /// [`GearedRotor::consistent_lambda`] with the mesh and friction sums of y already
+    /// evaluated (they do not depend on lambda).
+    ///
+    /// # Errors
+    /// [`ModelError::InconsistentLambda`] as for [`GearedRotor::consistent_lambda`].
+    pub fn consistent_lambda_with(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        sums: &FrictionSums,
+    ) -> Result<f64, ModelError> {
+        let g = &self.geom;
+        let m = *m;
         let grow = g.constraint_row(&m);
         let kin = kinematics(y);
         let pu = self.params.mu / sums.contact.length;
@@ -585,6 +601,35 @@ impl GearedRotor {
     /// Every output of `model.md` §6 from the state and the inputs at t. When the mesh
     /// cannot be evaluated the contact quantities are NaN.
     pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
+        let res = self
+            .mesh(t, y)
+            .and_then(|m| self.friction_sums(t, y, &m).map(|s| (m, s)));
+        self.outputs_with(y, res)
+    }
+
+    /// Outputs with lambda replaced by the value of the hidden constraint where it can be
+    /// decided ([`GearedRotor::consistent_lambda`]; else the lambda of y), evaluating the
+    /// mesh and the friction sums once for both (they do not depend on lambda).
+    pub fn outputs_consistent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
+        let res = self
+            .mesh(t, y)
+            .and_then(|m| self.friction_sums(t, y, &m).map(|s| (m, s)));
+        let mut z = *y;
+        if let Ok((m, sums)) = &res {
+            if let Ok(l) = self.consistent_lambda_with(t, y, m, sums) {
+                if l.is_finite() {
+                    z[idx::LAMBDA] = l;
+                }
+            }
+        }
+        self.outputs_with(&z, res)
+    }
+
+    fn outputs_with(
+        &self,
+        y: &SVector<f64, NY>,
+        res: Result<(Mesh, FrictionSums), ModelError>,
+    ) -> Outputs {
         let g = &self.geom;
         let v = idx::V;
         let mut o = Outputs::default();
@@ -623,9 +668,6 @@ impl GearedRotor {
             o.f_bearing1[i] = self.stiff[i] * y[i] + self.damp[i] * y[v + i];
             o.f_bearing2[i] = self.stiff[3 + i] * y[3 + i] + self.damp[3 + i] * y[v + 3 + i];
         }
-        let res = self
-            .mesh(t, y)
-            .and_then(|m| self.friction_sums(t, y, &m).map(|s| (m, s)));
         let (m, sums) = match res {
             Ok(x) => x,
             Err(_) => {

@@ -143,6 +143,12 @@ impl SolverSettings {
             n1: crate::rotor::N_INDEX1,
             n2: crate::rotor::N_INDEX2,
             n3: 0,
+            // E_IN..E_LOAD enter no right-hand side (zero Jacobian columns, identity rows
+            // of M_ext): factorise 18 x 18 instead of 22 x 22 (radau5 `Options::quadrature`).
+            quadrature: std::array::from_fn(|i| (idx::E_IN..=idx::E_LOAD).contains(&i)),
+            // u_i' = v_i (i < 6, v = y[7..]): eliminated from the linear systems, which
+            // leaves 12 x 12 LUs (radau5 `Options::second_order`, Fortran IWORK(9..10)).
+            second_order: Some((6, idx::V)),
             ..Options::default()
         }
     }
@@ -701,8 +707,8 @@ impl Simulation {
     /// constraint (see [`Simulation::output_state`]).
     pub fn outputs(&self) -> Outputs {
         let t = self.time();
-        let y = self.output_state(t, self.solver.y());
-        self.problem.model.outputs(t, &y)
+        // = outputs(t, output_state(t, y)) with one mesh/friction evaluation instead of two.
+        self.problem.model.outputs_consistent(t, self.solver.y())
     }
 
     /// The state for the outputs: y with lambda replaced by the value the hidden constraint
