@@ -200,8 +200,8 @@ pub enum FmuError {
 }
 
 impl FmuError {
-    /// THE mapping of errors to FMI statuses: solver failures in fmi2DoStep are fmi2Discard
-    /// (the state is that of the last successful time, the master may roll back and retry
+    /// THE mapping of errors to FMI statuses: solver and model failures in fmi2DoStep are
+    /// fmi2Discard (the state is that of the last successful time, the master may roll back and retry
     /// with a smaller step), panics and calls after them fmi2Fatal, everything else
     /// fmi2Error.
     pub fn status(&self) -> Fmi2Status {
@@ -216,6 +216,13 @@ impl FmuError {
                 R::InvalidOption { .. } | R::StopTimeBehind { .. } => Fmi2Status::Error,
                 _ => Fmi2Status::Discard,
             },
+            // The model cannot continue from the current state (e.g. no consistent lambda
+            // after a parameter change): nothing was stepped, the state is that of the last
+            // successful time (fmu.md: "the assumptions of the model violated").
+            FmuError::Sim {
+                func: "fmi2DoStep",
+                error: SimError::Model(_),
+            } => Fmi2Status::Discard,
             FmuError::Panic { .. } | FmuError::AfterFatal { .. } => Fmi2Status::Fatal,
             _ => Fmi2Status::Error,
         }
@@ -1008,7 +1015,8 @@ impl Instance {
     ) -> Result<(), FmuError> {
         let func = "fmi2GetRealOutputDerivatives";
         self.guard(func, allowed::GET_OUTPUT_DER)?;
-        let mut vars = Vec::with_capacity(vrs.len());
+        // Check every reference first (nothing written on error), then evaluate: no
+        // allocation per call.
         for (i, &vr) in vrs.iter().enumerate() {
             let var = Self::lookup(func, VarType::Real, vr)?;
             if var.causality != Causality::Output {
@@ -1026,14 +1034,14 @@ impl Instance {
                     ),
                 });
             }
-            vars.push(var.var);
         }
         let sim = self.sim.as_mut().ok_or_else(|| FmuError::BadArgument {
             func,
             message: "the model was not initialised".into(),
         })?;
         let (om, op, delta) = sim.outputs_for_derivative();
-        for (o, var) in out.iter_mut().zip(vars) {
+        for (o, &vr) in out.iter_mut().zip(vrs) {
+            let var = Self::lookup(func, VarType::Real, vr)?.var;
             let a = output_value(&om, var).unwrap_or(0.0);
             let b = output_value(&op, var).unwrap_or(0.0);
             *o = (b - a) / (2.0 * delta);

@@ -595,7 +595,16 @@ impl Simulation {
         let inputs_changed = !same_function(&rebase(&self.inputs_ref, t), &self.rebased(t));
         self.inputs_ref = *self.problem.model.inputs();
         if self.restart_pending || inputs_changed {
-            let y = *self.solver.y();
+            // lambda is algebraic: a new d_phi, mu or T_load moves it at once, so restart
+            // from its consistent value (hidden constraint, model.md §7), not the stale one.
+            let mut y = *self.solver.y();
+            match self.problem.model.consistent_lambda(t, &y) {
+                Ok(l) => y[idx::LAMBDA] = l,
+                Err(e) => {
+                    self.last_successful_time = t;
+                    return Err(SimError::Model(e));
+                }
+            }
             if let Err(e) = self.solver.restart(&mut self.problem, y, None) {
                 self.last_successful_time = t;
                 return Err(solver_err(e, t));
