@@ -107,13 +107,13 @@ impl SolverSettings {
     /// Validates the settings, naming the parameter and the bound.
     ///
     /// # Errors
-    /// rtol outside (0, 0.1], h_max not positive.
+    /// rtol outside [1e-13, 0.1], h_max not positive.
     pub fn validate(&self) -> Result<(), ParamError> {
-        if !(self.rtol > 1e-14 && self.rtol <= 0.1) {
+        if !(self.rtol >= 1e-13 && self.rtol <= 0.1) {
             return Err(ParamError {
                 name: "rtol",
                 value: self.rtol,
-                requirement: "1e-14 < rtol <= 0.1".into(),
+                requirement: "1e-13 <= rtol <= 0.1 (the declared min and max)".into(),
             });
         }
         if !(self.h_max > 0.0 && self.h_max.is_finite()) {
