@@ -6,7 +6,7 @@ mod common;
 use common::radau5::{opts, pendulum2, pendulum2_opts};
 use geared_rotor::radau5::test_problems::{Robertson, VanDerPol};
 use geared_rotor::radau5::{
-    Error, Options, Problem, Radau5, RhsError, Snapshot, SnapshotError, Tolerance,
+    Error, Options, Problem, Radau5, Retake, RhsError, Snapshot, SnapshotError, Tolerance,
 };
 use nalgebra::{SMatrix, SVector};
 
@@ -482,4 +482,190 @@ fn snapshot_is_complete_at_every_step() {
             assert_eq!(r.stats(), st, "from snapshot {k}");
         }
     }
+}
+
+/// `Radau5::retake` (co-simulation, radau5 module docs): the last accepted step redone so
+/// that it ends on an earlier time gives a solution point there (harmonic oscillator:
+/// against cos t, -sin t), the integration goes on from it, and what the retake needs
+/// (y and f at t_prev) survives a snapshot in bytes.
+#[test]
+fn retake_ends_the_last_step_on_an_earlier_time() {
+    let mut p = Harmonic;
+    let y0 = SVector::<f64, 2>::new(1.0, 0.0);
+    let mut s = Radau5::new(&mut p, opts(1e-8), 0.0, y0).unwrap();
+    for _ in 0..15 {
+        s.step(&mut p, 10.0).unwrap();
+    }
+    let (tp, t) = (s.t_prev(), s.t());
+    assert!(
+        t - tp > 0.05,
+        "steps of the oscillator are long: {}",
+        t - tp
+    );
+    let tc = tp + 0.37 * (t - tp);
+    let bytes = s.snapshot().to_bytes();
+    let untouched = s.snapshot();
+    // Outside the last step: typed errors, nothing changed; at its end: nothing to do.
+    for bad in [tp, tp - 1e-3, t + 1e-3, f64::NAN] {
+        assert!(matches!(
+            s.retake(&mut p, bad),
+            Err(Error::InvalidOption { name: "t_stop", .. })
+        ));
+    }
+    assert_eq!(s.retake(&mut p, t).unwrap(), Retake::Exact);
+    assert!(s.snapshot() == untouched);
+
+    let before = *s.stats();
+    assert_eq!(s.retake(&mut p, tc).unwrap(), Retake::Exact);
+    assert_eq!(s.t(), tc);
+    assert_eq!(s.t_prev(), tp);
+    assert_eq!(s.stats().naccpt, before.naccpt + 1);
+    assert!(
+        (s.y()[0] - tc.cos()).abs() < 1e-7,
+        "{} vs {}",
+        s.y()[0],
+        tc.cos()
+    );
+    assert!((s.y()[1] + tc.sin()).abs() < 1e-7);
+    // The dense output now belongs to [tp, tc].
+    let mut u = SVector::zeros();
+    s.dense_output(tp + 0.5 * (tc - tp), &mut u);
+    assert!((u[0] - (tp + 0.5 * (tc - tp)).cos()).abs() < 1e-7);
+    let y_tc = *s.y();
+    s.integrate_to(&mut p, 10.0).unwrap();
+    assert!((s.y()[0] - 10f64.cos()).abs() < 1e-6);
+
+    // From bytes: the same retake, bit for bit.
+    let mut q = Radau5::new(&mut p, opts(1e-8), 0.0, y0).unwrap();
+    q.restore(&Snapshot::from_bytes(&bytes).unwrap());
+    assert_eq!(q.retake(&mut p, tc).unwrap(), Retake::Exact);
+    assert_eq!(q.y()[0].to_bits(), y_tc[0].to_bits());
+    assert_eq!(q.y()[1].to_bits(), y_tc[1].to_bits());
+}
+
+/// A retake on a stiff, nonlinear problem lands where a step with that stop time from the
+/// same point lands (the same collocation equations; only the Newton start and the
+/// controller history differ), well within the tolerance.
+#[test]
+fn retake_matches_a_stop_time_step_on_van_der_pol() {
+    let mut p = VanDerPol { eps: 1e-3 };
+    let tol = 1e-6;
+    let mut s = Radau5::new(&mut p, opts(tol), 0.0, SVector::<f64, 2>::new(2.0, 0.0)).unwrap();
+    for k in 0..80 {
+        let pre = s.snapshot();
+        s.step(&mut p, 2.0).unwrap();
+        if k % 8 != 7 {
+            continue;
+        }
+        let tc = s.t_prev() + 0.6 * (s.t() - s.t_prev());
+        let mut r = Radau5::new(&mut p, opts(tol), 0.0, SVector::<f64, 2>::new(2.0, 0.0)).unwrap();
+        r.restore(&pre);
+        r.integrate_to(&mut p, tc).unwrap();
+        let post = s.snapshot();
+        s.retake(&mut p, tc).unwrap();
+        for i in 0..2 {
+            let d = (s.y()[i] - r.y()[i]).abs() / (tol * (1.0 + r.y()[i].abs()));
+            assert!(d < 1.0, "step {k}, component {i}: {d} tolerances apart");
+        }
+        // Carry on from the un-retaken state, so that the run covers the whole interval.
+        s.restore(&post);
+    }
+}
+
+/// `reset_step_count` renews the `max_steps` budget for a caller that never reaches its
+/// (far) stop time.
+#[test]
+fn reset_step_count_renews_the_budget() {
+    let mut p = Harmonic;
+    let o = Options {
+        max_steps: 5,
+        ..opts(1e-8)
+    };
+    let y0 = SVector::<f64, 2>::new(1.0, 0.0);
+    let mut s = Radau5::new(&mut p, o, 0.0, y0).unwrap();
+    for _ in 0..4 {
+        s.step(&mut p, 1e3).unwrap();
+        s.reset_step_count();
+        s.step(&mut p, 1e3).unwrap();
+        s.reset_step_count();
+    }
+    let mut s = Radau5::new(&mut p, o, 0.0, y0).unwrap();
+    let r = (0..8).try_for_each(|_| s.step(&mut p, 1e3).map(|_| ()));
+    assert!(
+        matches!(r, Err(Error::TooManySteps { max_steps: 5, .. })),
+        "{r:?}"
+    );
+}
+
+/// y' = -k y + u with a held input u (enters f additively; J = -k does not see it).
+struct ForcedDecay {
+    k: f64,
+    u: f64,
+}
+
+impl Problem<1> for ForcedDecay {
+    fn rhs(
+        &mut self,
+        _t: f64,
+        y: &SVector<f64, 1>,
+        f: &mut SVector<f64, 1>,
+    ) -> Result<(), RhsError> {
+        f[0] = -self.k * y[0] + self.u;
+        Ok(())
+    }
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        _y: &SVector<f64, 1>,
+        j: &mut SMatrix<f64, 1, 1>,
+    ) -> Result<bool, RhsError> {
+        j[(0, 0)] = -self.k;
+        Ok(true)
+    }
+}
+
+/// `Radau5::refresh` after a jump of an additive input: no new Jacobian, no first-step
+/// treatment, and the solution follows the exact `u/k + (y_c - u/k) exp(-k (t - t_c))`.
+#[test]
+fn refresh_after_an_input_jump_keeps_the_jacobian() {
+    let (k, tol) = (50.0, 1e-8);
+    let mut p = ForcedDecay { k, u: 1.0 };
+    let mut s = Radau5::new(&mut p, opts(tol), 0.0, SVector::<f64, 1>::new(0.0)).unwrap();
+    // In the transient (steps of ~1e-3 s, well below the time constant 1/k = 0.02 s),
+    // so the step after the jump needs no smaller h.
+    let t_c = 0.02;
+    s.integrate_to(&mut p, t_c).unwrap();
+    let y_c = s.y()[0];
+    assert!((y_c - (1.0 - (-k * t_c).exp()) / k).abs() < 1e-9);
+    p.u = 1.5;
+    let before = *s.stats();
+    s.refresh(&mut p, *s.y()).unwrap();
+    assert_eq!(s.stats().nfcn, before.nfcn + 1, "refresh evaluates f once");
+    assert_eq!(s.t_prev(), t_c, "nothing left to retake");
+    let h_before = s.h();
+    let at_c = s.snapshot();
+    s.step(&mut p, 1.0).unwrap();
+    assert_eq!(s.stats().njac, before.njac, "J kept across the refresh");
+    assert_eq!(s.stats().ndec, before.ndec, "LU pair kept (same h)");
+    // The full restart from the same point pays a Jacobian for its first step.
+    let mut r = Radau5::new(&mut p, opts(tol), 0.0, SVector::<f64, 1>::new(0.0)).unwrap();
+    r.restore(&at_c);
+    r.restart(&mut p, *r.y(), None).unwrap();
+    r.step(&mut p, 1.0).unwrap();
+    assert_eq!(r.stats().njac, before.njac + 1);
+    assert!(s.h() > 0.1 * h_before, "no first-step treatment");
+    for t in [0.31, 0.35, 0.5, 1.0] {
+        s.integrate_to(&mut p, t).unwrap();
+        let y_inf = p.u / k;
+        let exact = y_inf + (y_c - y_inf) * (-k * (t - t_c)).exp();
+        assert!(
+            (s.y()[0] - exact).abs() < 10.0 * tol,
+            "t = {t}: {} vs {exact}",
+            s.y()[0]
+        );
+    }
+    assert!(matches!(
+        s.refresh(&mut p, SVector::<f64, 1>::new(f64::NAN)),
+        Err(Error::InvalidOption { name: "y", .. })
+    ));
 }

@@ -37,6 +37,9 @@
 //!   Singular LU pairs are counted since the last accepted step (the Fortran never resets
 //!   `NSING`).
 //! - Only forward integration (`t_stop >= t`).
+//! - [`Radau5::retake`] redoes the last accepted step so that it ends on a given earlier
+//!   time (a stop time learned only after the step was taken); it keeps `y` and `f` at the
+//!   start of the last step for that.
 
 mod error;
 pub mod linalg;
@@ -55,4 +58,4 @@ pub use options::{Controller, JacobianMode, NewtonStart, Options, Tolerance};
 pub use problem::Problem;
 pub use snapshot::Snapshot;
 pub use stats::Statistics;
-pub use stepper::Radau5;
+pub use stepper::{Radau5, Retake};

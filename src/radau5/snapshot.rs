@@ -14,7 +14,8 @@ use super::stepper::Radau5;
 use super::{SnapshotError, Statistics};
 
 const MAGIC: [u8; 8] = *b"RADAU5SN";
-const VERSION: u32 = 1;
+/// 2: `y_prev`, `f_prev` (for `Radau5::retake`) after `t_prev`.
+const VERSION: u32 = 2;
 const HEADER_LEN: usize = 8 + 4 + 4 + 8;
 const CHECKSUM_LEN: usize = 8;
 
@@ -228,6 +229,8 @@ fn visit<const N: usize, I: Io>(io: &mut I, s: &mut State<N>) -> Result<(), Snap
     io.f64(&mut s.t)?;
     io.vec(&mut s.y)?;
     io.f64(&mut s.t_prev)?;
+    io.vec(&mut s.y_prev)?;
+    io.vec(&mut s.f_prev)?;
     io.vec(&mut s.f0)?;
     io.bool(&mut s.f0_valid, "f0_valid")?;
     io.f64(&mut s.h_next)?;
@@ -300,6 +303,8 @@ fn zero_state<const N: usize>() -> State<N> {
         t: 0.0,
         y: SVector::zeros(),
         t_prev: 0.0,
+        y_prev: SVector::zeros(),
+        f_prev: SVector::zeros(),
         f0: SVector::zeros(),
         f0_valid: false,
         h_next: 0.0,
@@ -420,6 +425,10 @@ impl<const N: usize> Snapshot<N> {
     /// Time of the snapshot.
     pub fn t(&self) -> f64 {
         self.state.t
+    }
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        self.state.t_prev
     }
     /// State at [`Snapshot::t`].
     pub fn y(&self) -> &SVector<f64, N> {

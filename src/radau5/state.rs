@@ -39,6 +39,10 @@ pub(crate) struct State<const N: usize> {
     pub t: f64,
     pub y: SVector<f64, N>,
     pub t_prev: f64,
+    /// `y` and `f(t, y)` at `t_prev`: what [`super::Radau5::retake`] starts the last step
+    /// again from (the Fortran has no use for them).
+    pub y_prev: SVector<f64, N>,
+    pub f_prev: SVector<f64, N>,
     /// `f(t, y)` (`Y0`); invalid after a step that landed on a stop time (the Fortran does
     /// not evaluate it after its last step either), then evaluated lazily.
     pub f0: SVector<f64, N>,

@@ -24,6 +24,15 @@ const MAX_UNEXPECTED: u32 = 20;
 /// Singular LU pairs in a row -> [`Error::SingularMatrix`] (`NSING >= 5` in `RADCOR`).
 const MAX_SINGULAR: u32 = 5;
 
+/// How [`Radau5::retake`] reached its stop time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Retake {
+    /// By a step from the start of the last step (the normal case).
+    Exact,
+    /// That step failed; continued from the dense output with an explicit restart.
+    Interpolated,
+}
+
 /// The RADAU5 integrator for `M y' = f(t, y)` with N components, fixed-size storage.
 #[derive(Debug, Clone)]
 pub struct Radau5<const N: usize> {
@@ -425,6 +434,8 @@ impl<const N: usize> Radau5<N> {
             t: t0,
             y: y0,
             t_prev: t0,
+            y_prev: y0,
+            f_prev: SVector::zeros(),
             f0: SVector::zeros(),
             f0_valid: false,
             h_next: h,
@@ -461,6 +472,7 @@ impl<const N: usize> Radau5<N> {
         st.stats.nfcn += 1;
         Self::point_eval_error(r, t0, h)?;
         st.f0 = f0;
+        st.f_prev = f0;
         st.f0_valid = true;
         let pattern = MassPattern::new(&st.mass);
         Ok(Radau5 {
@@ -604,7 +616,120 @@ impl<const N: usize> Radau5<N> {
         s.cont = [y, SVector::zeros(), SVector::zeros(), SVector::zeros()];
         s.xsol = s.t;
         s.t_prev = s.t;
+        s.y_prev = s.y;
+        s.f_prev = s.f0;
         Ok(())
+    }
+
+    /// Co-simulation: f changed at the current point in a way its Jacobian does not see (a
+    /// new value of an input that enters f additively, like a held reference or a load),
+    /// and `y` may carry re-projected algebraic components. Evaluates `f(t, y)`; h, J, the
+    /// LU pair, the Newton start (extrapolated from the last step's collocation polynomial)
+    /// and the controller history are kept, so the next step is an ordinary step of the
+    /// new right-hand side from `t`. Cheaper than [`Radau5::restart`], which also discards
+    /// J and starts like a first step; use that when J changes (a new parameter).
+    /// The last step can no longer be retaken (`t_prev = t`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a non-finite `y`; [`Error::Rhs`] / [`Error::NonFinite`]
+    /// if f cannot be evaluated there.
+    pub fn refresh<P: Problem<N>>(
+        &mut self,
+        problem: &mut P,
+        y: SVector<f64, N>,
+    ) -> Result<(), Error> {
+        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
+            return Err(Error::InvalidOption {
+                name: "y",
+                value: *v,
+                requirement: "finite",
+            });
+        }
+        let s = &mut self.st;
+        let mut f0 = SVector::zeros();
+        let r = eval(problem, s.t, &y, &mut f0);
+        s.stats.nfcn += 1;
+        Self::point_eval_error(r, s.t, s.h_next)?;
+        s.y = y;
+        s.f0 = f0;
+        s.f0_valid = true;
+        s.cont[0] = y;
+        s.t_prev = s.t;
+        s.y_prev = y;
+        s.f_prev = f0;
+        Ok(())
+    }
+
+    /// Co-simulation: replaces the last accepted step `[t_prev, t]` by a step from `t_prev`
+    /// that lands exactly on `t_stop` (`t_prev < t_stop <= t`), as if `t_stop` had been its
+    /// stop time. For a caller that stepped past a point at which f is about to change (an
+    /// FMU whose step went beyond the communication point and whose input then changed):
+    /// the state at `t_stop` is then a solution point, not the dense output.
+    ///
+    /// The step starts from the stored `y`, `f` at `t_prev` with the accepted step size as
+    /// the proposal (the clip to `t_stop` keeps it, like any stop time); J is kept, the LU
+    /// pair is rebuilt for the shorter h. Counted in the statistics like any step. Should
+    /// that step fail (it is shorter than one that succeeded, so only in pathological
+    /// cases), the stepper continues instead from the collocation polynomial's value at
+    /// `t_stop` with an explicit [`Radau5::restart`] ([`Retake::Interpolated`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] if `t_stop` is not inside the last accepted step; the
+    /// errors of [`Radau5::restart`] if even the fallback cannot evaluate f.
+    pub fn retake<P: Problem<N>>(&mut self, problem: &mut P, t_stop: f64) -> Result<Retake, Error> {
+        if t_stop == self.st.t {
+            return Ok(Retake::Exact);
+        }
+        if !(t_stop > self.st.t_prev && t_stop < self.st.t) {
+            return Err(Error::InvalidOption {
+                name: "t_stop",
+                value: t_stop,
+                requirement: "t_prev < t_stop <= t (inside the last accepted step)",
+            });
+        }
+        let mut y_fallback = SVector::zeros();
+        self.dense_output(t_stop, &mut y_fallback);
+        let (t_prev, y_prev, f_prev, h_old) = (
+            self.st.t_prev,
+            self.st.y_prev,
+            self.st.f_prev,
+            self.st.h_old,
+        );
+        let saved = self.snapshot();
+        {
+            let s = &mut self.st;
+            s.t = t_prev;
+            s.y = y_prev;
+            s.f0 = f_prev;
+            s.f0_valid = true;
+            s.h_next = h_old;
+            // The LU pair belongs to h_old; a shorter step needs its own.
+            s.prev_clipped = false;
+            s.reject = false;
+        }
+        let mut failed = false;
+        while self.st.t < t_stop {
+            if self.step(problem, t_stop).is_err() {
+                failed = true;
+                break;
+            }
+        }
+        if !failed {
+            return Ok(Retake::Exact);
+        }
+        let stats = self.st.stats;
+        self.restore(&saved);
+        self.st.stats = stats;
+        self.st.t = t_stop;
+        self.restart(problem, y_fallback, None)?;
+        Ok(Retake::Interpolated)
+    }
+
+    /// Co-simulation: starts a new budget of `max_steps` step attempts. The budget is
+    /// otherwise renewed only when a stop time is reached, which a caller that steps with a
+    /// far stop time (and interpolates the dense output) may never do.
+    pub fn reset_step_count(&mut self) {
+        self.st.steps_since_stop = 0;
     }
 
     /// Forward-difference or analytic Jacobian at the current point (label 10).
@@ -1128,6 +1253,8 @@ impl<const N: usize> Radau5<N> {
                     s.err_acc = 1.0e-2f64.max(err);
                 }
                 s.t_prev = t;
+                s.y_prev = s.y;
+                s.f_prev = s.f0;
                 s.h_old = h;
                 s.t = xph;
                 s.y = ynew;
