@@ -6,7 +6,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod dae;
-mod params;
+pub(crate) mod params;
 
 pub use crate::gear::FrictionLaw;
 pub use dae::{GearedRotor, InitialConditions};

@@ -7,7 +7,8 @@ use std::fmt;
 /// Magic number at the start of every serialized FMU state ("GRFMUST1").
 pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// Layout version; bump when the payload layout changes.
-pub const VERSION: u32 = 1;
+/// 2: the FMU time (look-ahead) after the last successful time; RADAU5 snapshot v2.
+pub const VERSION: u32 = 2;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]
