@@ -733,3 +733,64 @@ fn frictionless_run_reaches_the_static_equilibrium_at_every_long_communication_p
         }
     }
 }
+
+/// FMI 2.0 section 4.2.3: "If a status is required which cannot be retrieved by the slave
+/// it returns fmi2Discard". Such a query is harmless: it is logged, the instance keeps its
+/// state and steps on; the available kinds answer OK.
+#[test]
+fn unavailable_status_kinds_are_discard_and_harmless() {
+    let f = Fmu::new("status", false);
+    f.init();
+    assert_eq!(f.step(0.0, H), Fmi2Status::OK);
+    let mut st = Fmi2Status::Error;
+    let mut r = 0.0;
+    let mut b: Fmi2Boolean = 1;
+    let mut i: Fmi2Integer = 0;
+    let mut s: Fmi2String = ptr::null();
+    unsafe {
+        assert_eq!(
+            fmi2GetStatus(f.c, status_kind::DO_STEP_STATUS, &mut st),
+            Fmi2Status::OK
+        );
+        assert_eq!(st, Fmi2Status::OK);
+        assert_eq!(
+            fmi2GetRealStatus(f.c, status_kind::LAST_SUCCESSFUL_TIME, &mut r),
+            Fmi2Status::OK
+        );
+        assert_eq!(r, H);
+        assert_eq!(
+            fmi2GetBooleanStatus(f.c, status_kind::TERMINATED, &mut b),
+            Fmi2Status::OK
+        );
+        assert_eq!(b, 0);
+        f.clear();
+        let unavailable = [
+            (
+                "fmi2GetStatus",
+                fmi2GetStatus(f.c, status_kind::PENDING_STATUS, &mut st),
+            ),
+            (
+                "fmi2GetRealStatus",
+                fmi2GetRealStatus(f.c, status_kind::DO_STEP_STATUS, &mut r),
+            ),
+            (
+                "fmi2GetIntegerStatus",
+                fmi2GetIntegerStatus(f.c, status_kind::DO_STEP_STATUS, &mut i),
+            ),
+            (
+                "fmi2GetBooleanStatus",
+                fmi2GetBooleanStatus(f.c, status_kind::LAST_SUCCESSFUL_TIME, &mut b),
+            ),
+            (
+                "fmi2GetStringStatus",
+                fmi2GetStringStatus(f.c, status_kind::PENDING_STATUS, &mut s),
+            ),
+        ];
+        for (k, (func, status)) in unavailable.into_iter().enumerate() {
+            assert_eq!(status, Fmi2Status::Discard, "{func}");
+            let m = &f.messages()[k].2;
+            assert!(m.contains(func) && m.contains("not available"), "{m}");
+        }
+    }
+    assert_eq!(f.step(H, H), Fmi2Status::OK, "{}", f.last_message());
+}

@@ -171,6 +171,17 @@ pub enum FmuError {
         /// what is wrong
         message: String,
     },
+    /// A fmi2Get*Status kind this FMU cannot report (FMI 2.0 section 4.2.3: "If a status is
+    /// required which cannot be retrieved by the slave it returns fmi2Discard"). Harmless:
+    /// the instance keeps its state.
+    StatusNotAvailable {
+        /// FMI function
+        func: &'static str,
+        /// the fmi2StatusKind asked for
+        kind: i32,
+        /// why it is not available
+        why: &'static str,
+    },
     /// Optional function this FMU does not provide.
     Unsupported {
         /// FMI function
@@ -223,6 +234,7 @@ impl FmuError {
                 func: "fmi2DoStep",
                 error: SimError::Model(_),
             } => Fmi2Status::Discard,
+            FmuError::StatusNotAvailable { .. } => Fmi2Status::Discard,
             FmuError::Panic { .. } | FmuError::AfterFatal { .. } => Fmi2Status::Fatal,
             _ => Fmi2Status::Error,
         }
@@ -253,6 +265,12 @@ impl fmt::Display for FmuError {
             FmuError::BadArgument { func, message } => write!(f, "{func}: {message}"),
             FmuError::Unsupported { func, what } => {
                 write!(f, "{func}: not supported by this FMU ({what})")
+            }
+            FmuError::StatusNotAvailable { func, kind, why } => {
+                write!(
+                    f,
+                    "{func}: status kind {kind} is not available ({why}); returning fmi2Discard"
+                )
             }
             FmuError::Sim { func, error } => write!(f, "{func}: {error}"),
             FmuError::Panic { func, message } => {
@@ -539,6 +557,8 @@ impl Instance {
         self.log(status, cat, &e.to_string());
         match status {
             Fmi2Status::Fatal => self.phase = Phase::Fatal,
+            // An unavailable status kind changes nothing; a discarded step does.
+            Fmi2Status::Discard if matches!(e, FmuError::StatusNotAvailable { .. }) => {}
             Fmi2Status::Discard => self.phase = Phase::StepFailed,
             Fmi2Status::Error if self.phase != Phase::Fatal => self.phase = Phase::Error,
             _ => {}

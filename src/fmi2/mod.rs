@@ -816,7 +816,8 @@ pub unsafe extern "C" fn fmi2CancelStep(c: Fmi2Component) -> Fmi2Status {
     }
 }
 
-/// fmi2GetStatus: fmi2DoStepStatus is fmi2OK (steps are synchronous); other kinds: Error.
+/// fmi2GetStatus: fmi2DoStepStatus is fmi2OK (steps are synchronous); other kinds are not
+/// available: fmi2Discard (FMI 2.0 section 4.2.3), the instance keeps its state.
 ///
 /// # Safety
 /// FMI 2.0 caller contract.
@@ -838,9 +839,10 @@ pub unsafe extern "C" fn fmi2GetStatus(
                     *value = Fmi2Status::OK;
                     OK
                 }
-                _ => Err(FmuError::BadArgument {
+                _ => Err(FmuError::StatusNotAvailable {
                     func,
-                    message: format!("status kind {kind} is not provided (no asynchronous steps)"),
+                    kind,
+                    why: "only fmi2DoStepStatus (0) is provided; steps are never asynchronous",
                 }),
             }
         })
@@ -865,9 +867,10 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
                 return Err(FmuError::NullPointer { func, arg: "value" });
             }
             if kind != status_kind::LAST_SUCCESSFUL_TIME {
-                return Err(FmuError::BadArgument {
+                return Err(FmuError::StatusNotAvailable {
                     func,
-                    message: format!("status kind {kind} is not fmi2LastSuccessfulTime (2)"),
+                    kind,
+                    why: "only fmi2LastSuccessfulTime (2) is a Real status",
                 });
             }
             *value = inst.last_successful_time();
@@ -876,7 +879,7 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     }
 }
 
-/// fmi2GetIntegerStatus: no integer status exists.
+/// fmi2GetIntegerStatus: FMI 2.0 defines no integer status: fmi2Discard.
 ///
 /// # Safety
 /// Valid component.
@@ -890,9 +893,10 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
     unsafe {
         call(c, func, |inst| {
             inst.guard(func, allowed::STATUS)?;
-            Err(FmuError::BadArgument {
+            Err(FmuError::StatusNotAvailable {
                 func,
-                message: format!("status kind {kind}: FMI 2.0 defines no integer status"),
+                kind,
+                why: "FMI 2.0 defines no integer status",
             })
         })
     }
@@ -916,9 +920,10 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
                 return Err(FmuError::NullPointer { func, arg: "value" });
             }
             if kind != status_kind::TERMINATED {
-                return Err(FmuError::BadArgument {
+                return Err(FmuError::StatusNotAvailable {
                     func,
-                    message: format!("status kind {kind} is not fmi2Terminated (3)"),
+                    kind,
+                    why: "only fmi2Terminated (3) is a Boolean status",
                 });
             }
             *value = FMI2_FALSE;
@@ -927,7 +932,8 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     }
 }
 
-/// fmi2GetStringStatus: only fmi2PendingStatus would have one, and steps never pend.
+/// fmi2GetStringStatus: only fmi2PendingStatus would have one, and steps never pend:
+/// fmi2Discard.
 ///
 /// # Safety
 /// Valid component.
@@ -941,9 +947,10 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     unsafe {
         call(c, func, |inst| {
             inst.guard(func, allowed::STATUS)?;
-            Err(FmuError::BadArgument {
+            Err(FmuError::StatusNotAvailable {
                 func,
-                message: format!("status kind {kind}: no string status (no asynchronous steps)"),
+                kind,
+                why: "fmi2PendingStatus exists only for asynchronous steps, which this FMU never makes",
             })
         })
     }
