@@ -726,21 +726,15 @@ impl Simulation {
                 horizon
             };
             match self.solver.step(&mut self.problem, target) {
-                Ok(tn) => {
+                Ok(tn) if tn <= t_end => {
                     // Cheap test on the stepper's lambda; a change of sign is confirmed with
                     // the consistent lambda (see `output_state`), as the outputs report it.
-                    let mut lost = self.solver.y()[idx::LAMBDA] < 0.0;
-                    if lost != self.contact_lost {
-                        lost = self.output_state(tn, self.solver.y())[idx::LAMBDA] < 0.0;
-                    }
-                    if lost != self.contact_lost {
-                        if report.contact_changes == 0 {
-                            report.first_change_time = tn;
-                        }
-                        report.contact_changes += 1;
-                        self.contact_lost = lost;
-                    }
+                    let y = *self.solver.y();
+                    self.track_contact(tn, &y, &mut report);
                 }
+                // A look-ahead step: its end belongs to a later interval; the state at
+                // t_end is checked below.
+                Ok(_) => {}
                 Err(e) => {
                     // The stepper keeps its last accepted step; restart from there before
                     // the next step (its history after a failure is not trusted).
@@ -753,10 +747,31 @@ impl Simulation {
             }
         }
         self.set_comm(t_end);
+        if self.ahead() {
+            let y = self.y_comm;
+            self.track_contact(t_end, &y, &mut report);
+        }
         self.last_successful_time = t_end;
         report.stats = sub_stats(self.solver.stats(), &stats0);
         report.contact_lost = self.contact_lost;
         Ok(report)
+    }
+
+    /// Updates `contact_lost` (lambda < 0) at a state on the trajectory and counts a change
+    /// in the report. The stepper's lambda decides cheaply; a change is confirmed with the
+    /// consistent lambda (see `output_state`), as the outputs report it.
+    fn track_contact(&mut self, t: f64, y: &SVector<f64, NY>, report: &mut StepReport) {
+        let mut lost = y[idx::LAMBDA] < 0.0;
+        if lost != self.contact_lost {
+            lost = self.output_state(t, y)[idx::LAMBDA] < 0.0;
+        }
+        if lost != self.contact_lost {
+            if report.contact_changes == 0 {
+                report.first_change_time = t;
+            }
+            report.contact_changes += 1;
+            self.contact_lost = lost;
+        }
     }
 
     /// Time of the next mesh event before `t_end` (else `t_end`): an end of a contact line
