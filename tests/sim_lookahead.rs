@@ -250,8 +250,10 @@ fn snapshot_while_ahead_restores_bit_identically() {
 /// look-ahead step went past it.
 #[test]
 fn contact_changes_are_reported_in_their_interval() {
-    let mut p = Params::default();
-    p.mu = 0.0;
+    let p = Params {
+        mu: 0.0,
+        ..Params::default()
+    };
     let mut a = Simulation::new(p, SETTINGS, 0.0, OMEGA1, 0.0).unwrap();
     a.set_input_derivative(geared_rotor::sim::Input::TLoad, -2e4)
         .unwrap();
