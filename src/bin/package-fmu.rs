@@ -201,7 +201,9 @@ undefined at zero speed).</li>
 <code>fmi2LastSuccessfulTime</code>.</li>
 <li>Accuracy: RADAU5 with the tolerance of <code>fmi2SetupExperiment</code> (else <code>rtol</code>), absolute tolerances
 rtol times physical scales per state (1e-5 m displacements, 1e-2 m/s velocities, 1e3 N contact force, 1 J energies),
-internal step at most <code>h_max</code>.</li>
+internal step at most <code>h_max</code>. While the inputs stay the same, RADAU5 steps across communication points
+and the outputs there come from its dense output; when an input or a tunable changes, the step that went past the
+communication point is retaken to end on it.</li>
 </ul>
 <h2>Variables</h2>
 <table><tr><th>name</th><th>causality</th><th>variability</th><th>type</th><th>unit</th><th>default</th><th>description</th></tr>
