@@ -14,8 +14,9 @@
 //!   input or a tunable then changes, the step that went past the FMU time is retaken to end
 //!   exactly on it ([`Radau5::retake`]) before the change applies, so the result is that of
 //!   a stepper stopped at every point where the inputs changed;
-//! - held inputs with optional first derivatives (FMI `canInterpolateInputs`), applied by an
-//!   explicit stepper restart only when the input function really changed;
+//! - held inputs with optional first derivatives (FMI `canInterpolateInputs`); only when the
+//!   input function really changes is f re-evaluated ([`Radau5::refresh`], J and LU kept:
+//!   the inputs enter f additively); new tunables restart the stepper;
 //! - tunable parameters (mu, d_phi), per-component absolute tolerances from physical scales
 //!   ([`SCALES`]), output derivatives from the dense output;
 //! - a plain-data snapshot ([`SimState`]) and its versioned serialisation ([`codec`]);
