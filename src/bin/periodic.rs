@@ -143,7 +143,7 @@ fn orbit_csv(points: &[OrbitPoint]) -> String {
     s
 }
 
-/// Fig. 3 of the paper as SVG: orbits of both centres in the x-y plane [um], one panel per
+/// Fig. 3 of the paper as SVG: orbits of both centres in the x-y plane in um, one panel per
 /// gear, RADAU5 (shooting) as lines, the harmonic approach as dots; red gear 1, blue gear 2.
 fn fig3_svg(orbit: &[OrbitPoint], dots: &[OrbitPoint], n: usize) -> String {
     let (w, h, pad) = (900.0, 460.0, 60.0);

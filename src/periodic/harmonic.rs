@@ -55,7 +55,7 @@ impl Default for HarmonicOptions {
 pub struct HarmonicSolution {
     /// Order n (highest harmonic).
     pub n: usize,
-    /// Mesh period [s].
+    /// Mesh period in s.
     pub period: f64,
     /// Coefficients, row s = signal, columns `[a0, a1, b1, a2, b2, ..., an, bn]`.
     pub coeffs: DMatrix<f64>,

@@ -107,13 +107,13 @@ impl From<radau5::Error> for PeriodicError {
 /// transmission-error coordinate xi and lambda.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrbitPoint {
-    /// Time since the start of the period [s].
+    /// Time since the start of the period in s.
     pub t: f64,
-    /// u1x u1y u1z u2x u2y u2z [m].
+    /// u1x u1y u1z u2x u2y u2z in m.
     pub u: [f64; 6],
-    /// Transmission-error coordinate xi [m] (`rotor::idx::Q`).
+    /// Transmission-error coordinate xi in m (`rotor::idx::Q`).
     pub xi: f64,
-    /// Normal contact force lambda [N].
+    /// Normal contact force lambda in N.
     pub lambda: f64,
 }
 
@@ -150,7 +150,7 @@ impl PeriodicSystem {
         })
     }
 
-    /// The mesh period `T_m = 2 pi / (z1 omega1)` [s].
+    /// The mesh period `T_m = 2 pi / (z1 omega1)` in s.
     pub fn period(&self) -> f64 {
         self.period
     }
