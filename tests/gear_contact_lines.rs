@@ -3,6 +3,8 @@
 //! pairs in contact is eps_alpha + eps_beta (helical) resp. eps_alpha (spur); both hands give
 //! the same contact length at zero displacement (mirror symmetry in Z).
 
+mod common;
+
 use geared_rotor::gear::{GearData, PairGeometry};
 use nalgebra::Vector3;
 
@@ -94,4 +96,35 @@ fn mean_pairs_and_both_hands() {
         );
         assert!((mean - want).abs() < 1e-4);
     }
+}
+
+/// The mesh-phase reduction `reduce(x, p)` (fused multiply-add instead of the exact `fmod`
+/// of `rem_euclid`) lands in [0, p) and differs from the exact remainder by no more than a
+/// few roundings of x, circularly (a remainder just below p and one just above 0 are the
+/// same phase), for x over 20 decades, both signs, and exact multiples of p.
+#[test]
+fn phase_reduction_matches_the_exact_remainder() {
+    use geared_rotor::gear::contact_lines::reduce;
+    let g = PairGeometry::new(&GearData::default()).unwrap();
+    let mut rng = common::rng::Rng(7);
+    let mut worst: f64 = 0.0;
+    for p in [g.p_bt, g.phi1_period, 1.0] {
+        for i in 0..20_000 {
+            let x = match i % 4 {
+                0 => rng.sign() * rng.log(-12.0, 8.0),
+                1 => (i as f64 - 10_000.0) * p,
+                2 => (i as f64) * p * (1.0 + f64::EPSILON * rng.sym(4.0)),
+                _ => -rng.log(-300.0, -12.0),
+            };
+            let r = reduce(x, p);
+            assert!((0.0..p).contains(&r), "reduce({x:e}, {p:e}) = {r:e}");
+            let exact = x.rem_euclid(p);
+            let d = (r - exact).abs();
+            let d = d.min(p - d);
+            let bound = 4.0 * f64::EPSILON * x.abs().max(p);
+            assert!(d <= bound, "x = {x:e}, p = {p:e}: {r:e} vs {exact:e}");
+            worst = worst.max(d / (f64::EPSILON * x.abs().max(p)));
+        }
+    }
+    println!("largest difference: {worst:e} roundings of max(|x|, p)");
 }

@@ -421,9 +421,16 @@ impl GearedRotor {
     /// `B = G M^-1 Phi`, `r = r_b1 cos beta_b omega1' - G' v - G M^-1 F`. Solving under
     /// each sign assumption and keeping the consistent one needs no iteration.
     ///
+    /// A root is taken only where its denominator `A + B` (λ >= 0) or `A - B` (λ < 0) is
+    /// positive, so at most one assumption is ever consistent (λ >= 0 needs r >= 0, λ < 0
+    /// needs r < 0). None is when `|B| >= A` and r has the sign whose denominator is not
+    /// positive: Painlevé's paradox of friction, far outside the paper's range (for the
+    /// default pair in rigid rotation |B| reaches A only at μ = 45, the smallest A/|B/μ|
+    /// over a mesh period).
+    ///
     /// # Errors
-    /// Mesh/contact errors; [`ModelError::InconsistentLambda`] when not exactly one
-    /// assumption is consistent (|B| >= A, friction-induced ambiguity).
+    /// Mesh/contact errors; [`ModelError::InconsistentLambda`] when no assumption is
+    /// consistent (see above; r = 0 gives λ = 0).
     pub fn consistent_lambda(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, ModelError> {
         let m = self.mesh(t, y)?;
         let sums = self.friction_sums(t, y, &m)?;

@@ -810,7 +810,7 @@ impl Simulation {
         let mut best = f64::INFINITY;
         for sig in [m.sigma_a, sigma_c, m.sigma_e] {
             for wk in w {
-                let mut gap = (sig + wk - s_ph).rem_euclid(p);
+                let mut gap = crate::gear::contact_lines::reduce(sig + wk - s_ph, p);
                 if gap < eps {
                     gap += p;
                 }
