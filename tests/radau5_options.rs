@@ -2,7 +2,9 @@
 //! finite-difference Jacobian, zero Newton start.
 
 use geared_rotor::radau5::test_problems::{Robertson, VanDerPol};
-use geared_rotor::radau5::{Controller, JacobianMode, NewtonStart, Options, Radau5, Tolerance};
+use geared_rotor::radau5::{
+    Controller, Error, JacobianMode, NewtonStart, Options, Radau5, Tolerance,
+};
 use nalgebra::SVector;
 
 #[test]
@@ -21,6 +23,61 @@ fn defaults_are_those_of_radau5_f() {
     assert_eq!(o.newton_start, NewtonStart::Extrapolate);
     assert_eq!(o.jacobian, JacobianMode::Analytic);
     assert!(o.h_max.is_infinite());
+    assert_eq!(o.resume_after_stop, 1.0);
+}
+
+/// `resume_after_stop` (not in the Fortran) outside [0, 1] or NaN is refused by name.
+#[test]
+fn resume_after_stop_out_of_range_is_refused() {
+    for bad in [-0.1, 1.5, f64::NAN] {
+        let o = Options::<2> {
+            resume_after_stop: bad,
+            ..Options::default()
+        };
+        let mut p = VanDerPol { eps: 1e-6 };
+        match Radau5::new(&mut p, o, 0.0, SVector::<f64, 2>::new(2.0, 0.0)) {
+            Err(Error::InvalidOption { name, .. }) => assert_eq!(name, "resume_after_stop"),
+            other => panic!("{bad}: {:?}", other.map(|_| ())),
+        }
+    }
+}
+
+/// After a step shortened to land on a stop time, the next step starts at
+/// max(h_new, resume_after_stop * h_planned): from the same state, a stop a tenth of the
+/// planned step ahead gives h_new (resume 0, the shortened step's own proposal, at most
+/// 8 times that step) and the documented maximum for 0.5 and 1; the solution at the stop is
+/// the same in all three (the option only concerns the following step).
+#[test]
+fn resume_after_stop_sets_the_step_after_a_shortened_one() {
+    let mut p = VanDerPol { eps: 1e-3 };
+    let y0 = SVector::<f64, 2>::new(2.0, 0.0);
+    let run = |resume: f64, p: &mut VanDerPol| {
+        let o = Options::<2> {
+            rtol: Tolerance::Scalar(1e-6),
+            atol: Tolerance::Scalar(1e-6),
+            resume_after_stop: resume,
+            ..Options::default()
+        };
+        let mut s = Radau5::new(p, o, 0.0, y0).unwrap();
+        for _ in 0..30 {
+            s.step(p, 1.0).unwrap();
+        }
+        let h_planned = s.h();
+        let t_stop = s.t() + 0.1 * h_planned;
+        assert_eq!(s.step(p, t_stop).unwrap(), t_stop);
+        (h_planned, s.h(), *s.y())
+    };
+    let (hp, h0, y_a) = run(0.0, &mut p);
+    let (hp5, h5, y_b) = run(0.5, &mut p);
+    let (hp1, h1, y_c) = run(1.0, &mut p);
+    assert_eq!((hp, hp), (hp5, hp1));
+    assert_eq!((y_a, y_a), (y_b, y_c));
+    assert!(
+        h0 <= 8.0 * 0.1 * hp * (1.0 + 1e-12) && h0 < 0.5 * hp,
+        "h_new {h0:e}, planned {hp:e}"
+    );
+    assert_eq!(h5, h0.max(0.5 * hp));
+    assert_eq!(h1, h0.max(hp));
 }
 
 fn rob(o: Options<3>) -> Radau5<3> {

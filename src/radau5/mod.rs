@@ -20,7 +20,8 @@
 //! - Stop times (§8): the step that reaches a stop time lands on it exactly (`t + h` is
 //!   replaced by `t_stop`), like the Fortran's last step. If that shortened step went
 //!   through without trouble, the controller's proposal from before the shortening is kept
-//!   (and the Gustafsson history is not overwritten by the tiny step), so tiny
+//!   (scaled by [`Options::resume_after_stop`], default 1; the Gustafsson history is not
+//!   overwritten by the tiny step), so tiny
 //!   communication steps cost one step each. Between stop intervals of (nearly) equal
 //!   length the LU pair is reused. A Newton start extrapolated over more than `1/facr`
 //!   times the last step (impossible in the Fortran) starts from zero instead.

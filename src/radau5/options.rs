@@ -94,6 +94,13 @@ pub struct Options<const N: usize> {
     /// converged fast (`WORK(5)`, `WORK(6)`: defaults 1.0 and 1.2).
     pub keep_h_lo: f64,
     pub keep_h_hi: f64,
+    /// After a step shortened to land on a stop time (not in the Fortran; default 1), the
+    /// next step starts at `max(h_new, resume_after_stop * h_planned)`, `h_planned` being
+    /// the proposal from before the shortening and `h_new` the shortened step's own. 1 suits
+    /// communication points (f as smooth after the stop as before); below 1 suits stops at
+    /// kinks of f, after which the old proposal is too long (the gear model's mesh
+    /// events: `sim`); 0 takes `h_new` alone. `0 <= resume_after_stop <= 1`.
+    pub resume_after_stop: f64,
     /// Pure quadrature components (not in the Fortran; default none): `quadrature[i]` says
     /// that y_i enters no right-hand side (column i of J is zero) and has an identity row
     /// and column in M (index-1, `y_i' = f_i(t, y)`), e.g. energy accumulators. Then
@@ -132,6 +139,7 @@ impl<const N: usize> Default for Options<N> {
             fac_max: 8.0,
             keep_h_lo: 1.0,
             keep_h_hi: 1.2,
+            resume_after_stop: 1.0,
             quadrature: [false; N],
             second_order: None,
         }
@@ -164,6 +172,8 @@ pub(crate) struct Params<const N: usize> {
     pub facr: f64,
     pub quot1: f64,
     pub quot2: f64,
+    /// `Options::resume_after_stop`.
+    pub resume: f64,
 }
 
 fn invalid(name: &'static str, value: f64, requirement: &'static str) -> Error {
@@ -231,6 +241,13 @@ impl<const N: usize> Params<N> {
         if o.keep_h_hi.is_nan() || o.keep_h_hi < 1.0 {
             return Err(invalid("keep_h_hi", o.keep_h_hi, "keep_h_hi >= 1"));
         }
+        if !(0.0..=1.0).contains(&o.resume_after_stop) {
+            return Err(invalid(
+                "resume_after_stop",
+                o.resume_after_stop,
+                "0 <= resume_after_stop <= 1",
+            ));
+        }
         if !(o.fac_min > 0.0 && o.fac_min <= 1.0) {
             return Err(invalid("fac_min", o.fac_min, "0 < fac_min <= 1"));
         }
@@ -275,6 +292,7 @@ impl<const N: usize> Params<N> {
             facr: 1.0 / o.fac_max,
             quot1: o.keep_h_lo,
             quot2: o.keep_h_hi,
+            resume: o.resume_after_stop,
         })
     }
 }

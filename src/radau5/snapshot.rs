@@ -15,7 +15,8 @@ use super::{SnapshotError, Statistics};
 
 const MAGIC: [u8; 8] = *b"RADAU5SN";
 /// 2: `y_prev`, `f_prev` (for `Radau5::retake`) after `t_prev`.
-const VERSION: u32 = 2;
+/// 3: `resume_after_stop` after `quot2`.
+const VERSION: u32 = 3;
 const HEADER_LEN: usize = 8 + 4 + 4 + 8;
 const CHECKSUM_LEN: usize = 8;
 
@@ -208,6 +209,7 @@ fn visit_params<const N: usize, I: Io>(io: &mut I, p: &mut Params<N>) -> Result<
     io.f64(&mut p.facr)?;
     io.f64(&mut p.quot1)?;
     io.f64(&mut p.quot2)?;
+    io.f64(&mut p.resume)?;
     Ok(())
 }
 
@@ -295,6 +297,7 @@ fn zero_state<const N: usize>() -> State<N> {
         facr: 0.0,
         quot1: 0.0,
         quot2: 0.0,
+        resume: 0.0,
     });
     State {
         params,

@@ -1286,7 +1286,7 @@ impl<const N: usize> Radau5<N> {
                 }
                 s.reject = false;
                 s.h_next = if clean_clip && hnew >= h {
-                    hnew.max(h_planned)
+                    hnew.max(p.resume * h_planned)
                 } else {
                     hnew
                 };
