@@ -669,3 +669,99 @@ fn refresh_after_an_input_jump_keeps_the_jacobian() {
         Err(Error::InvalidOption { name: "y", .. })
     ));
 }
+
+/// `u` jumps from 1 to 1.5 at `t_j`, a hair after the stop time the stepper lands on (as a
+/// predicted event lands a hair before the true one).
+struct LateJump {
+    k: f64,
+    t_j: f64,
+    /// f is evaluated at t + ahead (the limit from after the jump when ahead > t_j - t).
+    ahead: f64,
+}
+
+impl Problem<1> for LateJump {
+    fn rhs(
+        &mut self,
+        t: f64,
+        y: &SVector<f64, 1>,
+        f: &mut SVector<f64, 1>,
+    ) -> Result<(), RhsError> {
+        let u = if t + self.ahead < self.t_j { 1.0 } else { 1.5 };
+        f[0] = -self.k * y[0] + u;
+        Ok(())
+    }
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        _y: &SVector<f64, 1>,
+        j: &mut SMatrix<f64, 1, 1>,
+    ) -> Result<bool, RhsError> {
+        j[(0, 0)] = -self.k;
+        Ok(true)
+    }
+}
+
+/// `Radau5::refresh_f`: after landing just before a jump of f, f re-evaluated as the limit
+/// from after it lets the next steps go through without the rejections a stale f(t, y)
+/// causes (its error estimate combines f(t, y) with stages that all lie after the jump);
+/// it costs one f evaluation, keeps y and the last step (retake still possible), and the
+/// solution follows the exact `u/k + (y_c - u/k) exp(-k (t - t_c))`, u = 1.5.
+#[test]
+fn refresh_f_after_landing_before_a_jump() {
+    let (k, tol, t_c) = (50.0, 1e-8, 0.02);
+    let run = |with: bool| {
+        let mut p = LateJump {
+            k,
+            t_j: t_c + 1e-15,
+            ahead: 0.0,
+        };
+        let mut s = Radau5::new(&mut p, opts(tol), 0.0, SVector::<f64, 1>::new(0.0)).unwrap();
+        s.integrate_to(&mut p, t_c).unwrap();
+        assert_eq!(s.t(), t_c);
+        let (y_c, t_prev) = (*s.y(), s.t_prev());
+        let before = *s.stats();
+        if with {
+            p.ahead = 1e-12;
+            s.refresh_f(&mut p).unwrap();
+            p.ahead = 0.0;
+            assert_eq!(s.stats().nfcn, before.nfcn + 1, "one f evaluation");
+            assert_eq!(
+                (*s.y(), s.t_prev()),
+                (y_c, t_prev),
+                "y and the last step kept"
+            );
+        }
+        let at_c = s.snapshot();
+        for _ in 0..5 {
+            s.step(&mut p, 1.0).unwrap();
+        }
+        let rejected = s.stats().nrejct - before.nrejct;
+        s.integrate_to(&mut p, 0.3).unwrap();
+        let y_inf = 1.5 / k;
+        let exact = y_inf + (y_c[0] - y_inf) * (-k * (0.3 - t_c)).exp();
+        assert!(
+            (s.y()[0] - exact).abs() < 10.0 * tol,
+            "{} vs {exact}",
+            s.y()[0]
+        );
+        // The last step before t_c can still be retaken after refresh_f.
+        s.restore(&at_c);
+        let t_mid = 0.5 * (t_prev + t_c);
+        assert!(s.retake(&mut p, t_mid).is_ok());
+        assert_eq!(s.t(), t_mid);
+        rejected
+    };
+    let stale = run(false);
+    let fresh = run(true);
+    println!(
+        "rejected in 5 steps after the stop: {stale} with the stale f, {fresh} with refresh_f"
+    );
+    assert!(
+        stale >= 1,
+        "a stale f(t, y) before the jump gets steps rejected"
+    );
+    assert_eq!(
+        fresh, 0,
+        "f from after the jump: no rejection ({stale} without)"
+    );
+}

@@ -38,6 +38,8 @@
 //!   Singular LU pairs are counted since the last accepted step (the Fortran never resets
 //!   `NSING`).
 //! - Only forward integration (`t_stop >= t`).
+//! - [`Radau5::refresh_f`] re-evaluates the stored f(t, y) with a caller-given problem
+//!   (the limit from after a jump of f the caller located), keeping everything else.
 //! - [`Radau5::retake`] redoes the last accepted step so that it ends on a given earlier
 //!   time (a stop time learned only after the step was taken); it keeps `y` and `f` at the
 //!   start of the last step for that.

@@ -660,6 +660,25 @@ impl<const N: usize> Radau5<N> {
         Ok(())
     }
 
+    /// Re-evaluates the stored `f(t, y)` at the current point with `problem` and keeps
+    /// everything else (y, h, J, LU pair, controller, the last step for
+    /// [`Radau5::retake`]). For a caller whose f jumps at t, where the step just ended: f
+    /// evaluated as its limit from after the jump makes the next step start consistently
+    /// (its error estimate uses f(t, y) together with stages that all lie after the jump).
+    ///
+    /// # Errors
+    /// [`Error::Rhs`] / [`Error::NonFinite`] if f cannot be evaluated there (nothing changed).
+    pub fn refresh_f<P: Problem<N>>(&mut self, problem: &mut P) -> Result<(), Error> {
+        let s = &mut self.st;
+        let mut f0 = SVector::zeros();
+        let r = eval(problem, s.t, &s.y, &mut f0);
+        s.stats.nfcn += 1;
+        Self::point_eval_error(r, s.t, s.h_next)?;
+        s.f0 = f0;
+        s.f0_valid = true;
+        Ok(())
+    }
+
     /// Co-simulation: replaces the last accepted step `[t_prev, t]` by a step from `t_prev`
     /// that lands exactly on `t_stop` (`t_prev < t_stop <= t`), as if `t_stop` had been its
     /// stop time. For a caller that stepped past a point at which f is about to change (an
