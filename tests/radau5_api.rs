@@ -722,7 +722,7 @@ fn refresh_f_after_landing_before_a_jump() {
         let before = *s.stats();
         if with {
             p.ahead = 1e-12;
-            s.refresh_f(&mut p).unwrap();
+            s.refresh_f(&mut p, y_c).unwrap();
             p.ahead = 0.0;
             assert_eq!(s.stats().nfcn, before.nfcn + 1, "one f evaluation");
             assert_eq!(

@@ -660,20 +660,35 @@ impl<const N: usize> Radau5<N> {
         Ok(())
     }
 
-    /// Re-evaluates the stored `f(t, y)` at the current point with `problem` and keeps
-    /// everything else (y, h, J, LU pair, controller, the last step for
-    /// [`Radau5::retake`]). For a caller whose f jumps at t, where the step just ended: f
-    /// evaluated as its limit from after the jump makes the next step start consistently
-    /// (its error estimate uses f(t, y) together with stages that all lie after the jump).
+    /// Replaces `y` at the current point (e.g. re-projected algebraic components) and
+    /// re-evaluates the stored `f(t, y)` with `problem`; keeps h, J, the LU pair, the
+    /// controller, the dense output and the last step for [`Radau5::retake`] (which starts
+    /// from `t_prev` and discards both). For a caller whose f jumps at t, where the step
+    /// just ended: f evaluated as its limit from after the jump (and the algebraic
+    /// components that jump with it) lets the next step start consistently, whereas its
+    /// error estimate would combine the f from before with stages that all lie after.
     ///
     /// # Errors
-    /// [`Error::Rhs`] / [`Error::NonFinite`] if f cannot be evaluated there (nothing changed).
-    pub fn refresh_f<P: Problem<N>>(&mut self, problem: &mut P) -> Result<(), Error> {
+    /// [`Error::InvalidOption`] for a non-finite `y`; [`Error::Rhs`] / [`Error::NonFinite`]
+    /// if f cannot be evaluated there (nothing changed then).
+    pub fn refresh_f<P: Problem<N>>(
+        &mut self,
+        problem: &mut P,
+        y: SVector<f64, N>,
+    ) -> Result<(), Error> {
+        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
+            return Err(Error::InvalidOption {
+                name: "y",
+                value: *v,
+                requirement: "finite",
+            });
+        }
         let s = &mut self.st;
         let mut f0 = SVector::zeros();
-        let r = eval(problem, s.t, &s.y, &mut f0);
+        let r = eval(problem, s.t, &y, &mut f0);
         s.stats.nfcn += 1;
         Self::point_eval_error(r, s.t, s.h_next)?;
+        s.y = y;
         s.f0 = f0;
         s.f0_valid = true;
         Ok(())
