@@ -597,20 +597,44 @@ fn reset_step_count_renews_the_budget() {
     );
 }
 
-/// y' = -k y + u with a held input u (enters f additively; J = -k does not see it).
+/// y' = -k y + u with a held input u (enters f additively; J = -k does not see it), which
+/// may jump at `t_j` (e.g. a hair after a stop time, as a predicted event lands a hair
+/// before the true one).
 struct ForcedDecay {
     k: f64,
     u: f64,
+    /// u jumps to `u_after` at `t_j` (never by default: infinity).
+    t_j: f64,
+    u_after: f64,
+    /// f is evaluated at t + ahead (the limit from after the jump when ahead > t_j - t).
+    ahead: f64,
+}
+
+impl ForcedDecay {
+    fn new(k: f64, u: f64) -> Self {
+        ForcedDecay {
+            k,
+            u,
+            t_j: f64::INFINITY,
+            u_after: u,
+            ahead: 0.0,
+        }
+    }
 }
 
 impl Problem<1> for ForcedDecay {
     fn rhs(
         &mut self,
-        _t: f64,
+        t: f64,
         y: &SVector<f64, 1>,
         f: &mut SVector<f64, 1>,
     ) -> Result<(), RhsError> {
-        f[0] = -self.k * y[0] + self.u;
+        let u = if t + self.ahead < self.t_j {
+            self.u
+        } else {
+            self.u_after
+        };
+        f[0] = -self.k * y[0] + u;
         Ok(())
     }
     fn jacobian(
@@ -629,7 +653,7 @@ impl Problem<1> for ForcedDecay {
 #[test]
 fn refresh_after_an_input_jump_keeps_the_jacobian() {
     let (k, tol) = (50.0, 1e-8);
-    let mut p = ForcedDecay { k, u: 1.0 };
+    let mut p = ForcedDecay::new(k, 1.0);
     let mut s = Radau5::new(&mut p, opts(tol), 0.0, SVector::<f64, 1>::new(0.0)).unwrap();
     // In the transient (steps of ~1e-3 s, well below the time constant 1/k = 0.02 s),
     // so the step after the jump needs no smaller h.
@@ -670,37 +694,6 @@ fn refresh_after_an_input_jump_keeps_the_jacobian() {
     ));
 }
 
-/// `u` jumps from 1 to 1.5 at `t_j`, a hair after the stop time the stepper lands on (as a
-/// predicted event lands a hair before the true one).
-struct LateJump {
-    k: f64,
-    t_j: f64,
-    /// f is evaluated at t + ahead (the limit from after the jump when ahead > t_j - t).
-    ahead: f64,
-}
-
-impl Problem<1> for LateJump {
-    fn rhs(
-        &mut self,
-        t: f64,
-        y: &SVector<f64, 1>,
-        f: &mut SVector<f64, 1>,
-    ) -> Result<(), RhsError> {
-        let u = if t + self.ahead < self.t_j { 1.0 } else { 1.5 };
-        f[0] = -self.k * y[0] + u;
-        Ok(())
-    }
-    fn jacobian(
-        &mut self,
-        _t: f64,
-        _y: &SVector<f64, 1>,
-        j: &mut SMatrix<f64, 1, 1>,
-    ) -> Result<bool, RhsError> {
-        j[(0, 0)] = -self.k;
-        Ok(true)
-    }
-}
-
 /// `Radau5::refresh_f`: after landing just before a jump of f, f re-evaluated as the limit
 /// from after it lets the next steps go through without the rejections a stale f(t, y)
 /// causes (its error estimate combines f(t, y) with stages that all lie after the jump);
@@ -710,10 +703,10 @@ impl Problem<1> for LateJump {
 fn refresh_f_after_landing_before_a_jump() {
     let (k, tol, t_c) = (50.0, 1e-8, 0.02);
     let run = |with: bool| {
-        let mut p = LateJump {
-            k,
+        let mut p = ForcedDecay {
             t_j: t_c + 1e-15,
-            ahead: 0.0,
+            u_after: 1.5,
+            ..ForcedDecay::new(k, 1.0)
         };
         let mut s = Radau5::new(&mut p, opts(tol), 0.0, SVector::<f64, 1>::new(0.0)).unwrap();
         s.integrate_to(&mut p, t_c).unwrap();

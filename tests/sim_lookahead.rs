@@ -3,9 +3,12 @@
 //! input or a tunable changes, the step that went past is retaken to end on the FMU time.
 //! Checked against RADAU5 driven directly with stop times (no look-ahead involved).
 
+mod common;
+
+use common::rotor::{driven, scaled_dev};
 use geared_rotor::radau5::Radau5;
-use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
-use geared_rotor::sim::{RotorProblem, Simulation, SolverSettings, SCALES};
+use geared_rotor::rotor::{idx, GearedRotor, Params, NY};
+use geared_rotor::sim::{RotorProblem, Simulation, SolverSettings};
 use nalgebra::SVector;
 
 const OMEGA1: f64 = 314.159;
@@ -18,22 +21,6 @@ fn sim() -> Simulation {
     Simulation::new(Params::default(), SETTINGS, 0.0, OMEGA1, 0.0).unwrap()
 }
 
-/// Largest deviation of `a` from `b` in units of the physical scales (`SCALES`, the atol
-/// of each component divided by rtol), lambda excluded (outputs re-project it).
-fn scaled_dev(a: &SVector<f64, NY>, b: &SVector<f64, NY>) -> (f64, usize) {
-    let mut worst = (0.0, 0);
-    for i in 0..NY {
-        if i == idx::LAMBDA {
-            continue;
-        }
-        let d = (a[i] - b[i]).abs() / SCALES[i].max(1e-3 * b[i].abs());
-        if d > worst.0 {
-            worst = (d, i);
-        }
-    }
-    worst
-}
-
 /// The reference: RADAU5 on the same problem and options, stopping exactly at `t_c`, where
 /// `change` is applied (lambda re-projected, explicit restart), then on to `t_end`.
 fn reference(
@@ -41,14 +28,7 @@ fn reference(
     t_end: f64,
     change: impl FnOnce(&mut GearedRotor),
 ) -> (SVector<f64, NY>, SVector<f64, NY>) {
-    let mut model = GearedRotor::new(Params::default()).unwrap();
-    model.set_inputs(Inputs {
-        omega1: OMEGA1,
-        omega1_der: 0.0,
-        t_load: 0.0,
-        t_load_der: 0.0,
-        t_ref: 0.0,
-    });
+    let mut model = driven(Params::default(), OMEGA1);
     let y0 = model.initialize(0.0).unwrap();
     let mut p = RotorProblem { model };
     let mut s = Radau5::new(&mut p, SETTINGS.options(), 0.0, y0).unwrap();
@@ -70,14 +50,7 @@ fn small_communication_steps_interpolate() {
     let h = 1e-5;
     let n = 2000;
     let mut a = sim();
-    let mut model = GearedRotor::new(Params::default()).unwrap();
-    model.set_inputs(Inputs {
-        omega1: OMEGA1,
-        omega1_der: 0.0,
-        t_load: 0.0,
-        t_load_der: 0.0,
-        t_ref: 0.0,
-    });
+    let mut model = driven(Params::default(), OMEGA1);
     let y0 = model.initialize(0.0).unwrap();
     let mut p = RotorProblem { model };
     let mut r = Radau5::new(&mut p, SETTINGS.options(), 0.0, y0).unwrap();

@@ -5,11 +5,13 @@
 //! event handling (its step-size control alone crosses the jumps), and by the energy
 //! balance (model.md §9).
 
+mod common;
+
+use common::rotor::{driven, scaled_dev};
 use geared_rotor::gear::GearData;
 use geared_rotor::radau5::Radau5;
-use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
-use geared_rotor::sim::{RotorProblem, Simulation, SolverSettings, SCALES};
-use nalgebra::SVector;
+use geared_rotor::rotor::Params;
+use geared_rotor::sim::{RotorProblem, Simulation, SolverSettings};
 
 const OMEGA1: f64 = 314.159;
 const SETTINGS: SolverSettings = SolverSettings {
@@ -28,34 +30,11 @@ fn spur() -> Params {
     }
 }
 
-/// Largest deviation in units of the physical scales, lambda excluded (an algebraic
-/// component that jumps with the friction; the outputs re-project it).
-fn scaled_dev(a: &SVector<f64, NY>, b: &SVector<f64, NY>) -> (f64, usize) {
-    let mut worst = (0.0, 0);
-    for i in 0..NY {
-        if i == idx::LAMBDA {
-            continue;
-        }
-        let d = (a[i] - b[i]).abs() / SCALES[i].max(1e-3 * b[i].abs());
-        if d > worst.0 {
-            worst = (d, i);
-        }
-    }
-    worst
-}
-
 #[test]
 fn located_jumps_agree_with_plain_radau5_and_conserve_energy() {
     let (t_end, every): (f64, f64) = (0.02, 1e-3);
     // Reference: plain RADAU5, rtol 1e-9, stop times every 1 ms only.
-    let mut model = GearedRotor::new(spur()).unwrap();
-    model.set_inputs(Inputs {
-        omega1: OMEGA1,
-        omega1_der: 0.0,
-        t_load: 0.0,
-        t_load_der: 0.0,
-        t_ref: 0.0,
-    });
+    let mut model = driven(spur(), OMEGA1);
     let y0 = model.initialize(0.0).unwrap();
     let mut p = RotorProblem { model };
     let tight = SolverSettings {

@@ -638,25 +638,12 @@ impl<const N: usize> Radau5<N> {
         problem: &mut P,
         y: SVector<f64, N>,
     ) -> Result<(), Error> {
-        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "y",
-                value: *v,
-                requirement: "finite",
-            });
-        }
+        self.refresh_f(problem, y)?;
         let s = &mut self.st;
-        let mut f0 = SVector::zeros();
-        let r = eval(problem, s.t, &y, &mut f0);
-        s.stats.nfcn += 1;
-        Self::point_eval_error(r, s.t, s.h_next)?;
-        s.y = y;
-        s.f0 = f0;
-        s.f0_valid = true;
         s.cont[0] = y;
         s.t_prev = s.t;
         s.y_prev = y;
-        s.f_prev = f0;
+        s.f_prev = s.f0;
         Ok(())
     }
 
