@@ -10,7 +10,7 @@ use super::variables::{
 use crate::gear::{GearData, ParamError};
 use crate::rotor::{FrictionLaw, Outputs, Params, RotorData};
 use crate::sim::codec::{self, DecodeError, Reader, Writer};
-use crate::sim::{Input, SimError, SimState, Simulation, SolverSettings};
+use crate::sim::{Input, SimError, SimState, Simulation, SolverSettings, RTOL_MAX, RTOL_MIN};
 use std::ffi::CString;
 use std::fmt;
 
@@ -465,7 +465,8 @@ impl Instance {
     ) -> Instance {
         Instance {
             magic: INSTANCE_MAGIC,
-            name: escape_message(name),
+            // Passed to the logger as it came (only the message is a printf format).
+            name: CString::new(name).unwrap_or_else(|_| escape_message(name)),
             logger,
             env,
             categories: [logging_on; 4],
@@ -602,7 +603,9 @@ impl Instance {
         Ok(())
     }
 
-    /// fmi2SetupExperiment.
+    /// fmi2SetupExperiment. A tolerance outside the range of the `rtol` parameter is a
+    /// hint the solver cannot follow: it is clamped into [`RTOL_MIN`], [`RTOL_MAX`] with a
+    /// warning (fmi2Warning), not refused.
     ///
     /// # Errors
     /// Non-finite or non-positive tolerance, non-finite start, stop before start.
@@ -611,15 +614,29 @@ impl Instance {
         tol: Option<f64>,
         start: f64,
         stop: Option<f64>,
-    ) -> Result<(), FmuError> {
+    ) -> Result<Fmi2Status, FmuError> {
         let func = "fmi2SetupExperiment";
         self.guard(func, allowed::SETUP_EXPERIMENT)?;
+        let mut status = Fmi2Status::OK;
+        let mut tol = tol;
         if let Some(t) = tol {
             if !(t > 0.0 && t.is_finite()) {
                 return Err(FmuError::BadArgument {
                     func,
                     message: format!("tolerance = {t} must be a positive finite number"),
                 });
+            }
+            let used = t.clamp(RTOL_MIN, RTOL_MAX);
+            if used != t {
+                self.log(
+                    Fmi2Status::Warning,
+                    Category::Warning,
+                    &format!(
+                        "{func}: tolerance = {t:e} is outside the range the solver supports, [{RTOL_MIN:e}, {RTOL_MAX:e}]; using rtol = {used:e}"
+                    ),
+                );
+                status = Fmi2Status::Warning;
+                tol = Some(used);
             }
         }
         if !start.is_finite() {
@@ -642,7 +659,7 @@ impl Instance {
             stop,
         };
         self.dirty = true;
-        Ok(())
+        Ok(status)
     }
 
     /// fmi2EnterInitializationMode.
@@ -1081,6 +1098,20 @@ impl Instance {
             message: "no simulation".into(),
         })?;
         let t0 = sim.time();
+        // FMI 2.0 section 2.1.6: computing past a defined stopTime is an error (with the
+        // tolerance of the communication point, so a last step that lands on stopTime
+        // up to round-off is accepted).
+        if let Some(stop) = self.experiment.stop {
+            if ccp + h > stop + crate::sim::comm_tolerance(t0, h) {
+                return Err(FmuError::BadArgument {
+                    func,
+                    message: format!(
+                        "the step [{ccp}, {}] s goes past stopTime = {stop} s of fmi2SetupExperiment",
+                        ccp + h
+                    ),
+                });
+            }
+        }
         let r = sim.do_step(ccp, h);
         self.outputs = None;
         let report = r.map_err(|error| FmuError::Sim { func, error })?;

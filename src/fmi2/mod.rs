@@ -275,8 +275,7 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
                 (tolerance_defined != FMI2_FALSE).then_some(tolerance),
                 start_time,
                 (stop_time_defined != FMI2_FALSE).then_some(stop_time),
-            )?;
-            OK
+            )
         })
     }
 }
@@ -816,8 +815,10 @@ pub unsafe extern "C" fn fmi2CancelStep(c: Fmi2Component) -> Fmi2Status {
     }
 }
 
-/// fmi2GetStatus: fmi2DoStepStatus is fmi2OK (steps are synchronous); other kinds are not
-/// available: fmi2Discard (FMI 2.0 section 4.2.3), the instance keeps its state.
+/// fmi2GetStatus: no kind is available: fmi2DoStepStatus and fmi2PendingStatus concern an
+/// fmi2DoStep that returned fmi2Pending, which this FMU never does (steps are synchronous;
+/// the Reference FMUs answer the same). fmi2Discard (FMI 2.0 section 4.2.3), the instance
+/// keeps its state.
 ///
 /// # Safety
 /// FMI 2.0 caller contract.
@@ -834,17 +835,11 @@ pub unsafe extern "C" fn fmi2GetStatus(
             if value.is_null() {
                 return Err(FmuError::NullPointer { func, arg: "value" });
             }
-            match kind {
-                status_kind::DO_STEP_STATUS => {
-                    *value = Fmi2Status::OK;
-                    OK
-                }
-                _ => Err(FmuError::StatusNotAvailable {
-                    func,
-                    kind,
-                    why: "only fmi2DoStepStatus (0) is provided; steps are never asynchronous",
-                }),
-            }
+            Err(FmuError::StatusNotAvailable {
+                func,
+                kind,
+                why: "it concerns an fmi2DoStep that returned fmi2Pending, and steps here are never asynchronous (the status of fmi2DoStep is its return value)",
+            })
         })
     }
 }

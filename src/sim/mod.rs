@@ -79,6 +79,16 @@ const fn scales() -> [f64; NY] {
 /// absolute one for |phi1| < 250 rad (0.8 s at the default speed) and grows slowly after.
 pub const PHI1_RTOL_FACTOR: f64 = 1e-3;
 
+/// The range of rtol (the declared min and max of the parameter `rtol`).
+pub const RTOL_MIN: f64 = 1e-13;
+/// See [`RTOL_MIN`].
+pub const RTOL_MAX: f64 = 0.1;
+
+/// Floor of phi1's relative tolerance: RADAU5 needs rtol > 10 uround = 1e-15 for every
+/// component, and `rtol * PHI1_RTOL_FACTOR` would go below it for rtol < 1e-12 (the
+/// declared rtol goes down to 1e-13).
+const PHI1_RTOL_MIN: f64 = 1e-14;
+
 /// Stop RADAU5 steps at predicted mesh events (see `Simulation::next_mesh_event`).
 const MESH_EVENT_STOPS: bool = true;
 
@@ -152,7 +162,7 @@ impl SolverSettings {
     /// # Errors
     /// rtol outside [1e-13, 0.1], h_max not positive.
     pub fn validate(&self) -> Result<(), ParamError> {
-        if !(self.rtol >= 1e-13 && self.rtol <= 0.1) {
+        if !(self.rtol >= RTOL_MIN && self.rtol <= RTOL_MAX) {
             return Err(ParamError {
                 name: "rtol",
                 value: self.rtol,
@@ -175,7 +185,7 @@ impl SolverSettings {
         Options::<NY> {
             rtol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| {
                 if i == idx::PHI1 {
-                    self.rtol * PHI1_RTOL_FACTOR
+                    (self.rtol * PHI1_RTOL_FACTOR).max(PHI1_RTOL_MIN)
                 } else {
                     self.rtol
                 }
@@ -596,6 +606,14 @@ impl Simulation {
         rebase(self.problem.model.inputs(), t)
     }
 
+    /// Whether f changes at the FMU time before the next step: the input function differs
+    /// from the one the last step used (re-setting the same values, or values that continue
+    /// the same ramp, is no change), or a tunable changed or a failure left a restart due.
+    fn change_pending(&self) -> bool {
+        let t = self.time();
+        self.restart_pending || !same_function(&rebase(&self.inputs_ref, t), &self.rebased(t))
+    }
+
     /// Value of an input at the current time (what the master set, extrapolated with its
     /// derivative).
     pub fn input(&self, which: Input) -> f64 {
@@ -728,9 +746,9 @@ impl Simulation {
         // The right-hand side changes at t if the input function changed: restart the
         // stepper (fresh f, Jacobian marked stale, h kept). Re-setting the same values (or
         // values that continue the same ramp) costs nothing.
-        let inputs_changed = !same_function(&rebase(&self.inputs_ref, t), &self.rebased(t));
+        let change = self.change_pending();
         self.inputs_ref = *self.problem.model.inputs();
-        if self.restart_pending || inputs_changed {
+        if change {
             // The setters have already retaken a look-ahead step (`sync`); a no-op then.
             if let Err(e) = self.sync() {
                 self.last_successful_time = t;
@@ -1036,20 +1054,23 @@ impl Simulation {
 
     /// Outputs at `time() - delta` and `time() + delta` on the collocation polynomial of the
     /// last step, and `delta`, for central-difference output derivatives (order 1). Before
-    /// the first step, the state is extrapolated with y' from M y' = f (lambda held).
+    /// the first step, and when an input or a tunable changed at the FMU time (the
+    /// polynomial is that of the old f: the derivative from after the change is wanted), the
+    /// state is extrapolated with y' from M y' = f (lambda from the hidden constraint, held).
     pub fn outputs_for_derivative(&mut self) -> (Outputs, Outputs, f64) {
         let t = self.time();
         let tp = self.solver.t_prev();
         let mut ym = SVector::<f64, NY>::zeros();
         let mut yp = SVector::<f64, NY>::zeros();
         let delta;
-        if tp < t && self.solver.stats().naccpt > 0 {
+        if tp < t && self.solver.stats().naccpt > 0 && !self.change_pending() {
             delta = DERIVATIVE_DELTA * (self.solver.t() - tp);
             self.solver.dense_output(t - delta, &mut ym);
             self.solver.dense_output(t + delta, &mut yp);
         } else {
             delta = 1e-9;
-            let y = self.y_comm;
+            // lambda consistent with the current inputs and tunables: it enters M y' = f.
+            let y = self.output_state(t, &self.y_comm);
             let mut f = SVector::<f64, NY>::zeros();
             let m = self.problem.model.mass();
             let ydot = match self.problem.model.rhs(t, &y, &mut f) {

@@ -8,12 +8,12 @@ use geared_rotor::fmi2::*;
 use std::ffi::{c_void, CStr, CString};
 use std::sync::Mutex;
 
-/// One recorded log call: (status, category, message).
-pub type Log = Mutex<Vec<(Fmi2Status, String, String)>>;
+/// One recorded log call: (status, category, message, instance name).
+pub type Log = Mutex<Vec<(Fmi2Status, String, String, String)>>;
 
 extern "C" fn record(
     env: *mut c_void,
-    _name: Fmi2String,
+    name: Fmi2String,
     status: Fmi2Status,
     cat: Fmi2String,
     msg: Fmi2String,
@@ -26,7 +26,10 @@ extern "C" fn record(
     let msg = unsafe { CStr::from_ptr(msg) }
         .to_string_lossy()
         .into_owned();
-    log.lock().unwrap().push((status, cat, msg));
+    let name = unsafe { CStr::from_ptr(name) }
+        .to_string_lossy()
+        .into_owned();
+    log.lock().unwrap().push((status, cat, msg, name));
 }
 
 /// The logger as the variadic C type (on x86_64 SysV a non-variadic callee reads the fixed
@@ -96,8 +99,24 @@ impl Fmu {
         }
     }
 
+    /// (status, category, message) of every log call so far.
     pub fn messages(&self) -> Vec<(Fmi2Status, String, String)> {
-        self.log.lock().unwrap().clone()
+        self.log
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|m| (m.0, m.1.clone(), m.2.clone()))
+            .collect()
+    }
+
+    /// The instance name passed with every log call so far.
+    pub fn names(&self) -> Vec<String> {
+        self.log
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|m| m.3.clone())
+            .collect()
     }
 
     pub fn last_message(&self) -> String {
