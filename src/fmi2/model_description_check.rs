@@ -183,6 +183,9 @@ struct Parsed {
     categories: Vec<String>,
     vars: Vec<Var>,
     outputs: Vec<usize>,
+    /// Per entry of `outputs`: its `dependencies` (None when absent) and the number of
+    /// `dependenciesKind` entries (None when absent).
+    output_deps: Vec<(Option<Vec<usize>>, Option<usize>)>,
     initial_unknowns: Vec<usize>,
 }
 
@@ -197,6 +200,7 @@ fn parse(text: &str) -> Parsed {
         categories: Vec::new(),
         vars: Vec::new(),
         outputs: Vec::new(),
+        output_deps: Vec::new(),
         initial_unknowns: Vec::new(),
     };
     let mut stack: Vec<String> = Vec::new();
@@ -323,8 +327,23 @@ fn parse(text: &str) -> Parsed {
                     .get("index")
                     .and_then(|s| s.parse::<usize>().ok())
                     .unwrap_or_else(|| fail("ModelStructure Unknown without a valid index".into()));
+                let deps = a.get("dependencies").map(|d| {
+                    d.split_whitespace()
+                        .map(|x| {
+                            x.parse::<usize>().unwrap_or_else(|_| {
+                                fail(format!("Unknown {idx}: dependency {x:?} is not an index"))
+                            })
+                        })
+                        .collect::<Vec<_>>()
+                });
+                let kinds = a
+                    .get("dependenciesKind")
+                    .map(|k| k.split_whitespace().count());
                 match parent.as_str() {
-                    "Outputs" => p.outputs.push(idx),
+                    "Outputs" => {
+                        p.outputs.push(idx);
+                        p.output_deps.push((deps, kinds));
+                    }
                     "InitialUnknowns" => p.initial_unknowns.push(idx),
                     "Derivatives" => fail("Derivatives are for Model Exchange only".into()),
                     _ => {}
@@ -521,6 +540,34 @@ fn check(p: &mut Parsed) {
     }
     if p.outputs != outs {
         fail("ModelStructure/Outputs must list every output once, in ascending index order".into());
+    }
+    // dependencies of an output (Co-Simulation): inputs only, ascending; dependenciesKind,
+    // if given, one per dependency and only with dependencies.
+    for (&i, (deps, kinds)) in p.outputs.iter().zip(&p.output_deps) {
+        if let Some(d) = deps {
+            for &k in d {
+                if k == 0 || k > p.vars.len() || p.vars[k - 1].causality != "input" {
+                    fail(format!(
+                        "ModelStructure/Outputs index {i}: dependency {k} is not an input variable"
+                    ));
+                }
+            }
+            if d.windows(2).any(|w| w[0] >= w[1]) {
+                fail(format!(
+                    "ModelStructure/Outputs index {i}: dependencies not ascending"
+                ));
+            }
+        }
+        match (deps, kinds) {
+            (Some(d), Some(n)) if d.len() != *n => fail(format!(
+                "ModelStructure/Outputs index {i}: {} dependencies but {n} dependenciesKind",
+                d.len()
+            )),
+            (None, Some(_)) => fail(format!(
+                "ModelStructure/Outputs index {i}: dependenciesKind without dependencies"
+            )),
+            _ => {}
+        }
     }
     let init: Vec<usize> = p
         .vars
@@ -744,6 +791,22 @@ mod tests {
         let j = i + XML[i..].find("/>").unwrap() + 2;
         let removed = format!("{}{}", &XML[..i], &XML[j..]);
         rejects(&removed, "missing from ModelStructure/Outputs");
+        rejects(
+            &XML.replacen(
+                "dependencies=\"2\" dependenciesKind",
+                "dependencies=\"45\" dependenciesKind",
+                1,
+            ),
+            "is not an input variable",
+        );
+        rejects(
+            &XML.replacen(
+                "dependenciesKind=\"dependent\"",
+                "dependenciesKind=\"dependent fixed\"",
+                1,
+            ),
+            "dependenciesKind",
+        );
         rejects(
             &XML.replacen("unit=\"N.m\"/>", "unit=\"Nm\"/>", 1),
             "not in UnitDefinitions",
