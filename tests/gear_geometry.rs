@@ -1,5 +1,8 @@
 //! Test 1 (issue 2): default-pair values of model.md §2 and the validation rules.
 
+mod common;
+
+use common::gear::reference_circles;
 use geared_rotor::gear::{GearData, PairGeometry};
 use geared_rotor::rotor::Params;
 
@@ -45,13 +48,7 @@ fn default_pair_matches_model_md_reference_values() {
 /// a (centre distance) such that the transverse contact ratio of a pair equals `eps`,
 /// computed from the §2 formulas independently of the crate (bisection).
 fn a_w_for_eps_alpha(d: &GearData, eps: f64) -> f64 {
-    let cb = d.beta.cos();
-    let at = (d.alpha_n.tan() / cb).atan();
-    let (r1, r2) = (
-        d.z1 as f64 * d.m_n / (2.0 * cb),
-        d.z2 as f64 * d.m_n / (2.0 * cb),
-    );
-    let (rb1, rb2) = (r1 * at.cos(), r2 * at.cos());
+    let (_, r1, r2, rb1, rb2) = reference_circles(d);
     let (ra1, ra2) = (
         r1 + d.m_n * (d.ha_coef + d.x1),
         r2 + d.m_n * (d.ha_coef + d.x2),

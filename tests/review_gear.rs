@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::gear::gear_sets;
+use common::gear::{gear_sets, reference_circles};
 use common::quad::gauss_legendre;
 use common::rng::Rng;
 use geared_rotor::gear::{FrictionLaw, GearData, Kinematics, PairGeometry};
@@ -30,13 +30,7 @@ fn involute(x: f64) -> f64 {
 
 impl Spec {
     fn new(d: &GearData) -> Spec {
-        let cb = d.beta.cos();
-        let at = (d.alpha_n.tan() / cb).atan();
-        let (r1, r2) = (
-            d.z1 as f64 * d.m_n / (2.0 * cb),
-            d.z2 as f64 * d.m_n / (2.0 * cb),
-        );
-        let (rb1, rb2) = (r1 * at.cos(), r2 * at.cos());
+        let (at, r1, r2, rb1, rb2) = reference_circles(d);
         let alpha_wt = if d.a_w == 0.0 {
             // inv alpha_wt = inv alpha_t + 2 tan alpha_n (x1 + x2)/(z1 + z2), by bisection
             let v = involute(at) + 2.0 * d.alpha_n.tan() * (d.x1 + d.x2) / (d.z1 + d.z2) as f64;

@@ -48,3 +48,15 @@ pub fn gear_sets() -> Vec<GearData> {
         },
     ]
 }
+
+/// Transverse pressure angle alpha_t and the pitch and base radii (r1, r2, rb1, rb2) of
+/// model.md §2, computed here independently of the crate (for the tests' own references).
+pub fn reference_circles(d: &GearData) -> (f64, f64, f64, f64, f64) {
+    let cb = d.beta.cos();
+    let at = (d.alpha_n.tan() / cb).atan();
+    let (r1, r2) = (
+        d.z1 as f64 * d.m_n / (2.0 * cb),
+        d.z2 as f64 * d.m_n / (2.0 * cb),
+    );
+    (at, r1, r2, r1 * at.cos(), r2 * at.cos())
+}
