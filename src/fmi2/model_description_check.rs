@@ -587,14 +587,18 @@ fn check(p: &mut Parsed) {
     }
     for r in REQUIRED {
         if !names.contains(*r) {
-            fail(format!("required variable {r} (docs/fmu.md \"Variables\") is missing"));
+            fail(format!(
+                "required variable {r} (docs/fmu.md \"Variables\") is missing"
+            ));
         }
     }
     for r in REQUIRED_VECTORS {
         for ax in ["x", "y", "z"] {
             let n = format!("{r}.{ax}");
             if !names.contains(&n) {
-                fail(format!("required variable {n} (docs/fmu.md \"Variables\") is missing"));
+                fail(format!(
+                    "required variable {n} (docs/fmu.md \"Variables\") is missing"
+                ));
             }
         }
     }
