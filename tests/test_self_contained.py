@@ -124,8 +124,9 @@ def repo_docs() -> dict[str, str]:
 
 def repo_exists(md_names: set[str], md_paths: set[str]):
     def exists(referrer: str, ref: str) -> bool:
-        if "/" not in ref:
-            return ref in md_names
+        if "/" not in ref or ref.startswith("documentation/"):
+            # a bare name, or a path inside the .fmu (the packager's file list)
+            return ref.rsplit("/", 1)[-1] in md_names
         here = (ROOT / referrer).parent
         return any((base / ref).resolve().relative_to(ROOT).as_posix() in md_paths
                    for base in (ROOT, here) if (base / ref).resolve().is_relative_to(ROOT))
