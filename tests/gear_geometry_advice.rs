@@ -130,7 +130,7 @@ fn small_pinion_interference_names_z1_with_its_limit() {
     for (n, _, v) in &limits {
         if n == "x1" || n == "h_aP" {
             let sa = sigmas(&with(&d, n, *v)).0;
-            assert!(sa >= 0.0 && sa < 2e-6, "{n} = {v}: sigma_A = {sa}");
+            assert!((0.0..2e-6).contains(&sa), "{n} = {v}: sigma_A = {sa}");
         }
     }
     assert!(limits.iter().any(|(n, up, _)| n == "x1" && *up), "{msg}");
