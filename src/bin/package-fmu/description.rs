@@ -191,3 +191,37 @@ pub fn parse(xml: &str) -> Result<Description, String> {
     }
     Ok(d)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A variable added later with a declared Enumeration type appears with its items'
+    /// range, and a Real inherits unit and display unit from its SimpleType.
+    #[test]
+    fn enumerations_and_declared_types_are_resolved() {
+        let xml = r#"<?xml version="1.0"?>
+<fmiModelDescription fmiVersion="2.0" modelName="M" guid="g">
+  <UnitDefinitions><Unit name="rad"><BaseUnit rad="1"/><DisplayUnit name="deg" factor="57.29577951308232"/></Unit></UnitDefinitions>
+  <TypeDefinitions>
+    <SimpleType name="Angle"><Real quantity="Angle" unit="rad" displayUnit="deg"/></SimpleType>
+    <SimpleType name="Init"><Enumeration><Item name="rest" value="1"/><Item name="static_equilibrium" value="2"/><Item name="periodic" value="3"/></Enumeration></SimpleType>
+  </TypeDefinitions>
+  <ModelVariables>
+    <ScalarVariable name="beta" valueReference="5" causality="parameter" variability="fixed" initial="exact"><Real declaredType="Angle" start="0.1" max="0.7"/></ScalarVariable>
+    <ScalarVariable name="initialization" valueReference="1010" causality="parameter" variability="fixed" initial="exact"><Enumeration declaredType="Init" start="1"/></ScalarVariable>
+  </ModelVariables>
+</fmiModelDescription>"#;
+        let d = parse(xml).unwrap();
+        assert_eq!(d.vars.len(), 2);
+        let beta = &d.vars[0];
+        assert_eq!(beta.ty("unit"), Some("rad"));
+        assert_eq!(beta.ty("displayUnit"), Some("deg"));
+        assert_eq!(beta.ty("max"), Some("0.7"));
+        assert!(d.display_unit("rad", "deg").is_some());
+        let init = &d.vars[1];
+        assert_eq!(init.base, "Enumeration");
+        assert_eq!((init.ty("min"), init.ty("max")), (Some("1"), Some("3")));
+        assert_eq!(d.types["Init"].items.len(), 3);
+    }
+}
