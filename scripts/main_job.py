@@ -249,6 +249,9 @@ def main() -> int:
 
     case = {n: value(n) for n in ("z1", "z2", "m_n", "beta", "omega1", "T_load", "mu")}
     title = case_title(case)
+    others = [f"{k} = {v:g}" for k, v in sets.items() if k not in case and not isinstance(v, bool)]
+    if others:
+        title += "; " + ", ".join(others)
     t_m = 2 * math.pi / (case["z1"] * case["omega1"])  # mesh period, docs/model.md (9.4)
     stop = args.stop_time or (30 * t_m if steady_from_start else 0.1)
     transient = 0.0 if steady_from_start else args.transient
