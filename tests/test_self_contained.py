@@ -44,6 +44,8 @@ SECTION_NUM = re.compile(r"\d+(?:\.\d+)*")
 # Python objects named like a file (`pkg.md` is FMPy's model description of the package)
 PY_ATTRIBUTES = {"self.md", "pkg.md"}
 TITLE_REF = re.compile(r'^[ \t]*"([^"\n]+)"')
+# `README "Input smoothing"`, `docs/development.md "Benchmarks"` (may span a line break)
+TITLED_REF = re.compile(r'\b(README|[\w/-]+\.md)`?\s+"([^"\n]+)"')
 HEADING = re.compile(r"^#+[ \t]+(.*)$", re.M)
 TEXT_SUFFIXES = {
     ".rs", ".py", ".md", ".toml", ".xml", ".sh", ".txt", ".html", ".svg", ".csv", ".cfg",
@@ -62,10 +64,14 @@ def headings(text: str) -> tuple[set[str], list[str]]:
     return numbers, titles
 
 
-def scan(files: dict[str, str], docs: dict[str, str], exists) -> list[str]:
+def scan(files: dict[str, str], docs: dict[str, str], exists,
+         others: dict[str, str] | None = None) -> list[str]:
     """All bad references in `files` (name -> text). `docs` maps model.md etc. to
-    their text; `exists(referrer, md_path)` says whether an .md reference resolves."""
+    their text; `exists(referrer, md_path)` says whether an .md reference resolves;
+    `others` maps further markdown files (README.md, development.md) to their text for
+    `README "Title"` references."""
     heads = {name: headings(text) for name, text in docs.items()}
+    other_heads = {name: headings(text)[1] for name, text in (others or {}).items()}
     bad = []
     for fname, text in files.items():
         for lineno, line in enumerate(text.splitlines(), 1):
@@ -95,6 +101,13 @@ def scan(files: dict[str, str], docs: dict[str, str], exists) -> list[str]:
                 t = TITLE_REF.match(rest)
                 if t and not any(t.group(1) in h for h in titles):
                     bad.append(f'{where}: {doc} has no section "{t.group(1)}": {line.strip()}')
+        for m in TITLED_REF.finditer(text):
+            doc, title = m.group(1), m.group(2)
+            key = "README.md" if doc == "README" else doc.rsplit("/", 1)[-1]
+            if key in DOCS or key not in other_heads:
+                continue  # docs are checked above; unknown files by the name check
+            if not any(title in h for h in other_heads[key]):
+                bad.append(f'{fname}: {doc} has no section "{title}"')
     return bad
 
 
@@ -143,7 +156,8 @@ def repo_scan() -> list[str]:
             files[p.relative_to(ROOT).as_posix()] = text
     md_paths = {n for n in files if n.endswith(".md")}
     md_names = {n.rsplit("/", 1)[-1] for n in md_paths}
-    return scan(files, repo_docs(), repo_exists(md_names, md_paths))
+    others = {n.rsplit("/", 1)[-1]: files[n] for n in md_paths}
+    return scan(files, repo_docs(), repo_exists(md_names, md_paths), others)
 
 
 def test_repository_has_no_reference_outside_it():
@@ -175,9 +189,10 @@ def test_fmu_has_no_reference_outside_it(fmu_path):
 
 def _scan_one(text: str) -> list[str]:
     files = {"src/x.rs": text}
-    md_paths = {f"docs/{d}" for d in DOCS} | {"README.md"}
+    md_paths = {f"docs/{d}" for d in DOCS} | {"README.md", "docs/development.md"}
     md_names = {n.rsplit("/", 1)[-1] for n in md_paths}
-    return scan(files, repo_docs(), repo_exists(md_names, md_paths))
+    others = {n.rsplit("/", 1)[-1]: (ROOT / n).read_text(encoding="utf-8") for n in md_paths}
+    return scan(files, repo_docs(), repo_exists(md_names, md_paths), others)
 
 
 @pytest.mark.parametrize("text", [
@@ -191,6 +206,8 @@ def _scan_one(text: str) -> list[str]:
     "/// model.md 3.7",
     "// model.md §5-§15",
     '// (docs/fmu.md "No such section")',
+    '// the filter of README "Input smoothness"',
+    '/// see docs/development.md "Benchmark figures"',
 ])
 def test_scanner_reports_a_bad_reference(text):
     assert _scan_one(text), f"not reported: {text}"
@@ -203,6 +220,8 @@ def test_scanner_reports_a_bad_reference(text):
     "// radau5.md §8; docs/radau5.md §3",
     '// (docs/fmu.md "Mesh events")',
     "// see README.md and docs/model.md",
+    '// the filter of README "Input smoothing"',
+    '/// see docs/development.md "Benchmarks"',
 ])
 def test_scanner_accepts_a_good_reference(text):
     assert _scan_one(text) == []
