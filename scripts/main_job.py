@@ -58,6 +58,17 @@ def window_mean(t: np.ndarray, y: np.ndarray, a: float, b: float) -> float:
     return float(np.sum(0.5 * (yy[1:] + yy[:-1]) * np.diff(tt)) / (b - a))
 
 
+def steady_plan(names: set, sets: dict) -> tuple[dict, bool]:
+    """Start values of the run and whether it starts on the periodic orbit: with the
+    parameter `initialization` in the FMU (and not set by the user) the run starts on the
+    periodic orbit (value 3); a user's value is kept; without it the run starts from rest
+    and the transient is cut."""
+    start_values = dict(sets)
+    if "initialization" in names and "initialization" not in sets:
+        start_values["initialization"] = PERIODIC_INIT
+    return start_values, start_values.get("initialization") == PERIODIC_INIT
+
+
 def case_title(v: dict) -> str:
     """The case in one line: pair, helix, speed, load, friction."""
     beta = math.degrees(v["beta"])
@@ -235,11 +246,7 @@ def main() -> int:
         print(f"error: {e}", file=sys.stderr)
         return 2
     names = {v.name for v in md.modelVariables}
-    start_values = dict(sets)
-    periodic_init = "initialization" in names and "initialization" not in sets
-    if periodic_init:
-        start_values["initialization"] = PERIODIC_INIT
-    steady_from_start = periodic_init or sets.get("initialization") == PERIODIC_INIT
+    start_values, steady_from_start = steady_plan(names, sets)
 
     def value(name):
         if name in sets:

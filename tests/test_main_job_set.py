@@ -58,3 +58,15 @@ def test_bad_settings_say_what_to_write(md, text, words):
         parse_set(md, text)
     for w in words:
         assert w in str(e.value), str(e.value)
+
+
+def test_steady_plan_uses_the_periodic_initialization_when_the_fmu_has_it():
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+    from main_job import PERIODIC_INIT, steady_plan
+
+    with_init = {"mu", "omega1", "initialization"}
+    assert steady_plan(with_init, {"mu": 0.1}) == ({"mu": 0.1, "initialization": PERIODIC_INIT}, True)
+    # a user's choice wins: from rest, the transient is cut
+    assert steady_plan(with_init, {"initialization": 1}) == ({"initialization": 1}, False)
+    # an FMU without the parameter: nothing added, transient cut
+    assert steady_plan({"mu", "omega1"}, {"mu": 0.1}) == ({"mu": 0.1}, False)
