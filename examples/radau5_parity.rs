@@ -1,4 +1,4 @@
-//! Runs every problem and tolerance of `../shared/data/radau5/reference.md` and prints one
+//! Runs every problem and tolerance of `data/radau5/reference.md` and prints one
 //! JSON object per line: counters, max abs error against the reference solution and the
 //! median time per solve (>= 7 measurements, each repeating the solve for >= 0.2 s).
 //!

@@ -1,4 +1,4 @@
-//! Bad states give typed errors, never panics (COMMON.md: no panics on bad input).
+//! Bad states give typed errors, never panics (docs/development.md "Standards": no panics on bad input).
 
 mod common;
 

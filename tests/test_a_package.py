@@ -1,6 +1,6 @@
 """(a) The packaged .fmu: FMPy's validation finds no problems, simulate_fmu runs
-the defaults for 50 ms, and the description matches the contract (fmu.md,
-contracts/API.md): names, causalities, capabilities, start values of model.md
+the defaults for 50 ms, and the description matches the contract (fmu.md
+"Variables"): names, causalities, capabilities, start values of model.md
 section 10, calculated parameters against an independent computation."""
 
 from __future__ import annotations

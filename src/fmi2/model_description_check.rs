@@ -23,7 +23,7 @@ use std::fmt::Write as _;
 pub const SOURCE: &str = "modelDescription/modelDescription.xml";
 const PLACEHOLDER: &str = "@GUID@";
 
-/// Variable names the Rust code refers to (API.md "FMI variable names"); missing ones would
+/// Variable names the Rust code refers to (docs/fmu.md "Variables"); missing ones would
 /// otherwise surface as an obscure compile error in src/fmi2.
 const REQUIRED: &[&str] = &[
     "omega1",
@@ -587,14 +587,18 @@ fn check(p: &mut Parsed) {
     }
     for r in REQUIRED {
         if !names.contains(*r) {
-            fail(format!("required variable {r} (API.md) is missing"));
+            fail(format!(
+                "required variable {r} (docs/fmu.md \"Variables\") is missing"
+            ));
         }
     }
     for r in REQUIRED_VECTORS {
         for ax in ["x", "y", "z"] {
             let n = format!("{r}.{ax}");
             if !names.contains(&n) {
-                fail(format!("required variable {n} (API.md) is missing"));
+                fail(format!(
+                    "required variable {n} (docs/fmu.md \"Variables\") is missing"
+                ));
             }
         }
     }

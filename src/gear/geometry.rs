@@ -1,6 +1,8 @@
 //! Gear pair geometry after ISO 21771 / DIN 3960 (`model.md` §2) and the analytic
 //! gear loss factor H_V (`model.md` §9.7).
 
+use super::geometry_repair as repair;
+pub(crate) use super::geometry_repair::Rule;
 use std::f64::consts::PI;
 use std::fmt;
 
@@ -177,6 +179,10 @@ fn err(name: &'static str, value: f64, requirement: String) -> ParamError {
     }
 }
 
+fn tagged(rule: Rule, name: &'static str, value: f64, requirement: String) -> (Rule, ParamError) {
+    (rule, err(name, value, requirement))
+}
+
 impl PairGeometry {
     /// Derives and validates the pair geometry (`model.md` §2).
     ///
@@ -185,8 +191,18 @@ impl PairGeometry {
     /// `0 < alpha_n < 45 deg`, `|beta| < 45 deg`, `b > 0`, `h_aP > 0`, finite shifts,
     /// `r_aj > r_bj`, a valid working pressure angle (`x1+x2` resp. `a_w > r_b1 + r_b2`),
     /// `0 <= sigma_A < sigma_E <= a_w sin alpha_wt`, `eps_alpha + eps_beta > 1`, and
-    /// (buffer bound of the contact-line loop) `eps_alpha + eps_beta <= 60`.
+    /// (buffer bound of the contact-line loop) `eps_alpha + eps_beta <= 60`. For the
+    /// derived rules the error names the first parameter that repairs the set alone and
+    /// lists every such single-parameter repair with its computed limit value
+    /// (`geometry_repair`).
     pub fn new(data: &GearData) -> Result<Self, ParamError> {
+        Self::check(data).map_err(|(rule, e)| repair::explain(data, rule, e))
+    }
+
+    /// [`PairGeometry::new`] without the repair advice: the violated rule and the plain
+    /// message (used by `repair` to test candidate values).
+    pub(crate) fn check(data: &GearData) -> Result<Self, (Rule, ParamError)> {
+        let err = |name, value, requirement| (Rule::Plain, err(name, value, requirement));
         let d = *data;
         let deg45 = PI / 4.0;
         if d.z1 < 5 {
@@ -243,14 +259,16 @@ impl PairGeometry {
         let ra1 = r1 + d.m_n * (d.ha_coef + d.x1);
         let ra2 = r2 + d.m_n * (d.ha_coef + d.x2);
         if !(ra1 > rb1) {
-            return Err(err(
+            return Err(tagged(
+                Rule::TipBelowBase1,
                 "x1",
                 d.x1,
                 format!("tip radius r_a1 = {ra1} > base radius r_b1 = {rb1}"),
             ));
         }
         if !(ra2 > rb2) {
-            return Err(err(
+            return Err(tagged(
+                Rule::TipBelowBase2,
                 "x2",
                 d.x2,
                 format!("tip radius r_a2 = {ra2} > base radius r_b2 = {rb2}"),
@@ -262,7 +280,8 @@ impl PairGeometry {
             match inv_inverse(v) {
                 Some(awt) => (awt, r_sum / awt.cos()),
                 None => {
-                    return Err(err(
+                    return Err(tagged(
+                        Rule::WorkingAngle,
                         "x1+x2",
                         d.x1 + d.x2,
                         format!(
@@ -287,7 +306,8 @@ impl PairGeometry {
         let sigma_a = loa - rho_a2;
         let sigma_c = rb1 * alpha_wt.tan();
         if !(sigma_a >= 0.0) {
-            return Err(err(
+            return Err(tagged(
+                Rule::Interference1,
                 "x2",
                 d.x2,
                 format!(
@@ -297,7 +317,8 @@ impl PairGeometry {
             ));
         }
         if !(sigma_e <= loa) {
-            return Err(err(
+            return Err(tagged(
+                Rule::Interference2,
                 "x1",
                 d.x1,
                 format!(
@@ -307,7 +328,8 @@ impl PairGeometry {
             ));
         }
         if !(sigma_a < sigma_e) {
-            return Err(err(
+            return Err(tagged(
+                Rule::TipsApart,
                 "h_aP",
                 d.ha_coef,
                 format!("sigma_A = {sigma_a} < sigma_E = {sigma_e} (the tips must overlap)"),
@@ -324,7 +346,8 @@ impl PairGeometry {
             } else {
                 ("b", d.b)
             };
-            return Err(err(
+            return Err(tagged(
+                Rule::ContactRatio,
                 name,
                 value,
                 format!(

@@ -7,6 +7,7 @@
 pub mod contact_lines;
 pub mod friction;
 pub mod geometry;
+mod geometry_repair;
 pub mod mesh;
 
 pub use contact_lines::{ContactSummary, Segment};

@@ -1,6 +1,6 @@
 //! RADAU5 (Hairer & Wanner, `radau5.f` version of 2002) for `M y' = f(t, y)` with index-1,
 //! -2 and -3 components, re-implemented in safe Rust for small dense systems
-//! (`../shared/spec/radau5.md`).
+//! (`docs/radau5.md`).
 //!
 //! Same algorithm, constants, defaults and decisions as the Fortran (§1-§7), so that the
 //! work counters match it step for step (all 26 rows of `reference.md` match exactly, see

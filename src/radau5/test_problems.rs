@@ -1,4 +1,4 @@
-//! The parity problems of `../shared/data/radau5/reference.md`, their reference solutions
+//! The parity problems of `data/radau5/reference.md`, their reference solutions
 //! and the Fortran's counters, shared by the tests and the `radau5_parity` example.
 //! (Hidden from the docs: test support, not part of the solver API.)
 

@@ -182,7 +182,7 @@ impl GearedRotor {
         Ok(s)
     }
 
-    /// Right-hand side f(t, y) of `M_ext y' = f` (`model.md` §5, §8, API.md energy states).
+    /// Right-hand side f(t, y) of `M_ext y' = f` (`model.md` §5, §8, energy states of model.md §6).
     /// No heap allocation.
     ///
     /// # Errors

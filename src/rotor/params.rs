@@ -37,7 +37,7 @@ pub struct Params {
 }
 
 impl Default for Params {
-    /// `model.md` §10; omega1_filter_hz = 1000 Hz (API.md).
+    /// `model.md` §10; omega1_filter_hz = 1000 Hz (`model.md` §8).
     fn default() -> Self {
         Self {
             gear: GearData::default(),

@@ -94,7 +94,7 @@ const MESH_EVENT_STOPS: bool = true;
 
 /// Step across communication points while the input function is unchanged (see the module
 /// docs). Measured (default case, rtol 1e-6, steady state, H = 1e-5 s): without 5.1 ms CPU
-/// and ~1020 internal steps per simulated 10 ms; with: see README "Benchmarks".
+/// and ~1020 internal steps per simulated 10 ms; with: see docs/development.md "Benchmarks".
 const LOOKAHEAD: bool = true;
 
 /// Stop time given to the stepper in look-ahead mode: far enough never to be reached,

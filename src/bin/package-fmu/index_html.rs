@@ -1,0 +1,213 @@
+//! documentation/index.html of the .fmu: what the model is (sketch), version, licence and
+//! generation date, an example result, the default pair, the limits of validity, and the
+//! table of every variable read from the model description (start, min, max, unit and
+//! display unit). Each variable row is `<tr id="var-NAME">` with cells of class `start`,
+//! `min`, `max`, `unit`, `display` (tests/test_documentation.py reads them).
+
+use crate::description::{Description, ScalarVariable};
+use geared_rotor::gear::PairGeometry;
+use std::fmt::Write as _;
+
+pub fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// `raw` as written in the XML, and for Reals with a display unit also converted:
+/// `0.3490658503988659 (20 deg)`.
+fn with_display(md: &Description, v: &ScalarVariable, raw: Option<&str>) -> String {
+    let Some(raw) = raw else {
+        return String::new();
+    };
+    let mut s = escape(raw);
+    if v.base == "Real" {
+        if let (Some(u), Some(du), Ok(x)) = (v.ty("unit"), v.ty("displayUnit"), raw.parse::<f64>())
+        {
+            if let Some(d) = md.display_unit(u, du) {
+                let y = d.factor * x + d.offset;
+                let _ = write!(s, " ({} {})", short(y), escape(&d.name));
+            }
+        }
+    }
+    s
+}
+
+/// A number with up to 6 significant digits, no exponent noise for ordinary values.
+fn short(y: f64) -> String {
+    if y == 0.0 {
+        return "0".into();
+    }
+    let a = y.abs();
+    if !(1e-4..1e7).contains(&a) {
+        return format!("{y:.5e}");
+    }
+    let decimals = (5 - a.log10().floor() as i32).clamp(0, 10) as usize;
+    let s = format!("{y:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// What the build knows about itself, shown in the header.
+pub struct BuildInfo<'a> {
+    pub date: Option<&'a str>,
+    pub date_source: &'a str,
+    pub guid: &'a str,
+}
+
+pub fn document(md: &Description, g: &PairGeometry, info: &BuildInfo) -> String {
+    let model = |k: &str| md.model.get(k).map(String::as_str).unwrap_or("");
+    let exp = |k: &str| {
+        md.default_experiment
+            .get(k)
+            .map(String::as_str)
+            .unwrap_or("")
+    };
+    let date = match info.date {
+        Some(d) => format!("{d} ({})", info.date_source),
+        None => "not recorded (built outside git without SOURCE_DATE_EPOCH)".into(),
+    };
+    let n_of = |c: &str| md.vars.iter().filter(|v| v.get("causality") == c).count();
+    let mut o = String::new();
+    let _ = write!(
+        o,
+        r#"<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{name} FMU</title>
+<style>body{{font-family:sans-serif;max-width:72em;margin:2em auto;padding:0 1em;line-height:1.45}}
+table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;font-size:88%;vertical-align:top}}
+th{{background:#eee}}code{{background:#f4f4f4}}figure{{margin:1em 0}}img{{max-width:100%;height:auto;border:1px solid #ddd}}
+figcaption{{font-size:90%;color:#333}}</style></head><body>
+<h1>{name} &mdash; helical gear pair with tooth friction</h1>
+<p>FMI {fmi} Co-Simulation FMU, model version <b>{version}</b>, licence <b>{license}</b>
+(<a href="LICENSE.txt">LICENSE.txt</a>), generated {date} by {tool}. GUID <code>{guid}</code>.
+Platform in this archive: linux64. Author: {author}.</p>
+<figure><img src="figures/geared_rotor.svg" alt="sketch of both rotors, bearings, axes, line of action and helix hand">
+<figcaption>The model: two rigid rotors on spring-damper bearings in x, y, z; gear 1 is driven at the speed
+<code>omega1</code>, gear 2 brakes with <code>d_phi</code> and <code>T_load</code>; the tooth force acts along the
+line of action T&#8321;&#8594;T&#8322;; with <code>beta</code> &gt; 0 gear 1 is left-hand, gear 2 right-hand.</figcaption></figure>
+<h2>What the model is</h2>
+<p>{description}. Each rotor centre translates in x, y and z on linear bearing springs and dampers; rotor 1 turns
+with the prescribed speed <code>omega1</code> (input), rotor 2 turns freely against a rotational damper
+<code>d_phi</code> and the load torque <code>T_load</code> (input). The rigid teeth cannot penetrate: one constraint
+whose Lagrange multiplier is the normal tooth force <code>Fn</code>. Coulomb friction acts along every contact line
+in the plane of action and is integrated in closed form. The resulting index-2 differential-algebraic system
+(G. Jehle and A. Fidlin, PAMM 2015) is integrated by RADAU5 (Hairer and Wanner), which continues across
+communication points and sub-steps internally.</p>
+<p>The complete model with numbered equations is in <a href="model.md">model.md</a> (in this folder; sections are
+cited as model.md &sect;N), the solver in <a href="radau5.md">radau5.md</a>, the FMI behaviour in
+<a href="fmu.md">fmu.md</a>. The input <code>omega1</code> is made continuous by a critically damped second-order
+filter (model.md &sect;8), so a held step gives a bounded torque; input derivatives (order 1) are used when the master
+sets them; output derivatives (order 1) come from RADAU5's dense output.</p>
+<p>Interface: {n_in} inputs, {n_out} outputs, {n_par} parameters, {n_calc} calculated parameters. Default experiment:
+{start} to {stop} s, tolerance {tol}, step {step} s.</p>
+<h2>Example result</h2>
+<figure><img src="result.svg" alt="T1, Fn and TE of the reference run">
+<figcaption>The reference run shipped with this FMU: the default pair from rest at 3000 rpm, <code>T_load</code>
+ramped from 0 to 20 N m between 2 and 6 ms (inputs <a href="{model_id}_in.csv">{model_id}_in.csv</a>, outputs every
+0.1 ms in <a href="{model_id}_ref.csv">{model_id}_ref.csv</a>, computed at tolerance 1e-10). The decaying oscillation
+of about 660 Hz is the vibration of the rotors on their bearings excited by the start from rest; the mesh frequency
+(1350 Hz) is above what this output interval shows.</figcaption></figure>
+<h2>Default pair</h2>
+<figure><img src="figure.svg" alt="default pair in the transverse plane">
+<figcaption>The default pair in the transverse plane (to scale, bar = 10 mm): base circles solid, reference circles
+dotted, tip circles dashed; the line of action T&#8321;T&#8322; touches both base circles at the tangent points
+T&#8321;, T&#8322; (points, not the torque output <code>T1</code>); the thick part A&ndash;E is where teeth are in
+contact (A: tip of gear 2, E: tip of gear 1); C is the pitch point. Working pressure angle alpha_wt =
+{awt:.3} deg, operating centre distance a_w = {aw:.3} mm.</figcaption></figure>
+<table><tr><th>calculated parameter</th><th>value</th></tr>
+<tr><td>base radii r_b1, r_b2</td><td>{rb1:.6} mm, {rb2:.6} mm</td></tr>
+<tr><td>operating centre distance a_w</td><td>{aw:.6} mm</td></tr>
+<tr><td>working pressure angle alpha_wt</td><td>{awt:.6} deg</td></tr>
+<tr><td>base helix angle beta_b</td><td>{bb:.6} deg</td></tr>
+<tr><td>transverse base pitch p_bt</td><td>{pbt:.6} mm</td></tr>
+<tr><td>contact ratios eps_alpha, eps_beta (eps_1, eps_2)</td><td>{ea:.6}, {eb:.6} ({e1:.6}, {e2:.6})</td></tr>
+<tr><td>analytic loss factor H_V (model.md &sect;9.7)</td><td>{hv:.6}</td></tr></table>
+<h2>Limits of validity</h2>
+<ul>
+<li>Rigid teeth with perfect involute flanks; the only compliance is in the bearings.</li>
+<li>Single-flank contact: <code>contact_lost</code> becomes true when <code>Fn &lt; 0</code> (the teeth would lift
+off, logged under <code>logEvents</code>); results after that are outside the model.</li>
+<li>Gear data (model.md &sect;2): z1, z2 &ge; 5; m_n &gt; 0; 0 &lt; alpha_n &lt; 45 deg; |beta| &lt; 45 deg; b &gt; 0;
+no interference (0 &le; sigma_A, sigma_E &le; a_w sin alpha_wt); sigma_A &lt; sigma_E; eps_alpha + eps_beta &gt; 1;
+tip radii above the base radii. A refused set is reported in <code>fmi2ExitInitializationMode</code> with
+<code>fmi2Error</code>, naming the parameter that repairs it alone and its limit (e.g. z1 = 10 with the other
+defaults: &ldquo;z1 &gt;= 13, x1 &gt;= 0.2002, h_aP &lt;= 0.7653&rdquo;).</li>
+<li>The axes stay parallel to z; tilting moments are reported, not applied.</li>
+<li>Coulomb friction with constant mu (<code>friction_law</code> = 1); no start-up from standstill.</li>
+<li>The centre distance must stay above r_b1 + r_b2; when the solver cannot continue, <code>fmi2DoStep</code> returns
+<code>fmi2Discard</code> and the state is the one at <code>fmi2LastSuccessfulTime</code>.</li>
+<li>Accuracy: RADAU5 with the tolerance of <code>fmi2SetupExperiment</code> (else <code>rtol</code>), absolute
+tolerances rtol times physical scales per state, internal step at most <code>h_max</code>.</li>
+</ul>
+<h2>Variables</h2>
+<p>Values in SI units as in modelDescription.xml; in brackets the same value in the display unit.
+min and max are the declared bounds (inclusive); 1e-300 stands for &ldquo;greater than 0&rdquo;.</p>
+<table><tr><th>name</th><th>causality</th><th>variability</th><th>type</th><th>start</th><th>min</th><th>max</th><th>unit</th><th>display unit</th><th>description</th></tr>
+"#,
+        name = escape(model("modelName")),
+        fmi = escape(model("fmiVersion")),
+        version = escape(model("version")),
+        license = escape(model("license")),
+        tool = escape(model("generationTool")),
+        author = escape(model("author")),
+        description = escape(model("description")),
+        date = escape(&date),
+        guid = escape(info.guid),
+        model_id = "GearedRotor",
+        n_in = n_of("input"),
+        n_out = n_of("output"),
+        n_par = n_of("parameter"),
+        n_calc = n_of("calculatedParameter"),
+        start = escape(exp("startTime")),
+        stop = escape(exp("stopTime")),
+        tol = escape(exp("tolerance")),
+        step = escape(exp("stepSize")),
+        rb1 = g.rb1 * 1e3,
+        rb2 = g.rb2 * 1e3,
+        aw = g.a_w * 1e3,
+        awt = g.alpha_wt.to_degrees(),
+        bb = g.beta_b.to_degrees(),
+        pbt = g.p_bt * 1e3,
+        ea = g.eps_alpha,
+        eb = g.eps_beta,
+        e1 = g.eps_1,
+        e2 = g.eps_2,
+        hv = g.h_v
+    );
+    for v in &md.vars {
+        let mut ty = v.base.clone();
+        if v.base == "Enumeration" {
+            if let Some(t) = v.ty("declaredType").and_then(|n| md.types.get(n)) {
+                let items: Vec<String> = t
+                    .items
+                    .iter()
+                    .map(|(val, n, _)| format!("{val} = {}", escape(n)))
+                    .collect();
+                ty = format!("Enumeration ({})", items.join(", "));
+            }
+        }
+        let _ = writeln!(
+            o,
+            r#"<tr id="var-{name}"><td><code>{name}</code></td><td>{caus}</td><td>{var}</td><td>{ty}</td><td class="start">{start}</td><td class="min">{min}</td><td class="max">{max}</td><td class="unit">{unit}</td><td class="display">{disp}</td><td>{desc}</td></tr>"#,
+            name = escape(v.get("name")),
+            caus = escape(v.get("causality")),
+            var = escape(v.get("variability")),
+            ty = ty,
+            start = with_display(md, v, v.ty("start")),
+            min = with_display(md, v, v.ty("min")),
+            max = with_display(md, v, v.ty("max")),
+            unit = escape(v.ty("unit").unwrap_or("")),
+            disp = escape(v.ty("displayUnit").unwrap_or("")),
+            desc = escape(v.get("description")),
+        );
+    }
+    let _ = writeln!(
+        o,
+        "</table>\n<p>Log categories: logStatusError, logStatusWarning, logEvents, logSolver, logAll.</p>\n</body></html>"
+    );
+    o
+}
