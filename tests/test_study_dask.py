@@ -85,15 +85,18 @@ def test_eight_points_on_two_workers_equal_a_serial_loop_bit_for_bit(client, fmu
 
 
 def test_an_invalid_point_is_a_row_with_its_error_and_the_others_run(client, fmu_path, tmp_path):
-    study = _study(fmu_path, list={"mu": [0.05, -1.0, 0.02, 0.1], "z1": [27, 27, 3, 19]})
+    study = _study(fmu_path, list={"mu": [0.05, -1.0, 0.02, 0.1, 0.05], "z1": [27, 27, 3, 19, 27],
+                                   "omega1": ["3000 rpm"] * 4 + [0.0]})
     summary = sweep(study, out=tmp_path / "r", client=client, progress=False)
     rows = read_results(tmp_path / "r").to_pylist()
-    assert [r["point"] for r in rows] == [0, 1, 2, 3]
-    assert summary.failed == 2
+    assert [r["point"] for r in rows] == [0, 1, 2, 3, 4]
+    assert summary.failed == 3
     bad_mu, bad_z1 = rows[1], rows[2]
     assert bad_mu["status"] == "Error" and "mu" in bad_mu["message"], bad_mu["message"]
     assert bad_z1["status"] == "Error" and "z1" in bad_z1["message"], bad_z1["message"]
     assert math.isnan(bad_mu["efficiency"]) and math.isnan(bad_z1["TE.mean"])
+    # a point the study tool itself cannot reduce: no speed, no mesh period
+    assert rows[4]["status"] == "Error" and "omega1" in rows[4]["message"], rows[4]["message"]
     for r in (rows[0], rows[3]):
         assert r["status"] == "OK", r["message"]
         assert 0.9 < r["efficiency"] < 1.0
