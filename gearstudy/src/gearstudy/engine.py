@@ -76,6 +76,7 @@ def sweep(
     progress: bool | None = None,
     fmu: str | os.PathLike | None = None,
     client=None,
+    overwrite: bool = False,
 ) -> SweepSummary:
     """Run the study's points not yet in ``out`` and append their rows there.
 
@@ -83,11 +84,12 @@ def sweep(
     LocalCluster with ``workers`` worker processes (default: one per core), one thread each.
     serial: run in this process without Dask. max_points: run at most this many new points
     (the rest stays for a later call). client: an existing ``distributed.Client`` to use.
+    overwrite: delete the rows already in ``out`` first (else they are kept and skipped).
     """
     if not isinstance(study, Study):
         study = load_study(study, fmu=fmu)
     out = Path(out) if out is not None else Path("out") / "studies" / _slug(study.name)
-    store = ResultStore(out, study)
+    store = ResultStore(out, study, overwrite=overwrite)
     items = [(i, point_key(p), p) for i, p in enumerate(study.points)]
     done = store.done_keys()
     todo = [it for it in items if it[1] not in done]

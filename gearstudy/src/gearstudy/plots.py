@@ -21,7 +21,7 @@ from .results import read_results
 
 SPEED = "omega1"
 PREFERRED_AXES = ("omega1", "T_load")
-MAX_CURVES = 8
+MAX_CURVES = 12
 
 
 def _display(table, col):
@@ -87,8 +87,8 @@ def plot_results(results, out_dir=None, x: str | None = None, y: str | None = No
             if good.sum() >= 3 and len(set(X[good])) > 1 and len(set(Y[good])) > 1:
                 cs = ax.tricontourf(X[good], Y[good], 100 * Z[good], levels=12, cmap="viridis")
                 ax.tricontour(X[good], Y[good], 100 * Z[good], levels=12, colors="k", linewidths=0.4)
-                fig.colorbar(cs, ax=ax, label="efficiency [%]")
-            ax.plot(X, Y, "k.", ms=3)
+                fig.colorbar(cs, ax=ax, label="efficiency [%]", format="%.4f")
+            ax.plot(X, Y, "k.", ms=3, clip_on=False)
             ax.set_xlabel(_label(table, x))
             ax.set_ylabel(_label(table, y))
             ax.set_title(", ".join(_fmt(table, c, v) for c, v in combo.items()) or "efficiency")
@@ -142,7 +142,7 @@ def plot_results(results, out_dir=None, x: str | None = None, y: str | None = No
             if combo:
                 title += " (" + ", ".join(_fmt(table, c, v) for c, v in combo.items()) + ")"
             ax.set_title(title, fontsize=9)
-            unit = json.loads((table.schema.metadata or {}).get(b"units", b"{}")).get(out, "")
+            unit = json.loads((table.schema.metadata or {}).get(b"units", b"{}")).get(f"{out}.order{orders[0]}", "")
             fig.colorbar(ax.collections[0], ax=ax, label=f"amplitude [{unit}]")
             fig.tight_layout()
             written.append(_save(fig, out_dir / f"orders_{out}.png"))

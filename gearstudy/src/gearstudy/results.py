@@ -27,9 +27,11 @@ _ARROW = {"float64": pa.float64(), "int64": pa.int64(), "string": pa.string(), "
 
 
 class ResultStore:
-    def __init__(self, out: Path, study):
+    def __init__(self, out: Path, study, overwrite: bool = False):
         self.out = Path(out)
         self.rows_dir = self.out / "rows"
+        if overwrite and self.rows_dir.is_dir():
+            shutil.rmtree(self.rows_dir)
         self.rows_dir.mkdir(parents=True, exist_ok=True)
         settings = study.settings()
         meta = self.out / "settings.json"
@@ -39,7 +41,7 @@ class ResultStore:
                 changed = sorted(k for k in settings if old.get(k) != settings.get(k))
                 raise StudyError(
                     f"{self.out} holds results made with other settings ({', '.join(changed)} "
-                    f"changed); use another output directory or delete {self.out}"
+                    f"changed); use another output directory, or --overwrite (overwrite=True) to start over"
                 )
         meta.write_text(json.dumps(settings, indent=1, sort_keys=True))
         if study.path is not None:

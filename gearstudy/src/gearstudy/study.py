@@ -59,6 +59,7 @@ class Study:
     chunk_size: int = 0  # 0 = automatic (engine.chunk_size)
     tolerance: float | None = None  # fmi2SetupExperiment tolerance; None = the FMU's rtol
     extra: dict = field(default_factory=dict)
+    fmu_sha256: str = ""  # the .fmu's bytes: a rebuilt binary is another model
 
     @property
     def variables(self) -> list[str]:
@@ -69,6 +70,7 @@ class Study:
         """What, besides a point's values, determines its row; a resumed study must match."""
         return {
             "fmu_guid": self.catalog.guid,
+            "fmu_sha256": self.fmu_sha256,
             "outputs": list(self.outputs),
             "orders": list(self.orders),
             "window": self.window.as_dict(),
@@ -191,6 +193,7 @@ def study_from_dict(
         chunk_size=int(run.get("chunk_size", 0)),
         tolerance=None if tol is None else float(tol),
         extra={"description": meta.get("description", "")},
+        fmu_sha256=hashlib.sha256(fmu_path.read_bytes()).hexdigest(),
     )
 
 
