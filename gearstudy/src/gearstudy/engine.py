@@ -23,12 +23,17 @@ from .results import ResultStore
 from .runner import RunnerPool, prepare_settings
 from .study import Study, load_study, point_key
 
-#: rough CPU seconds per simulated second at the defaults (including the Python sampling);
-#: only used to size chunks before anything was measured
-CPU_PER_SIMULATED_S = 0.4
-#: a task should carry at least this much work so the scheduler's per-task overhead
-#: (~1 ms) stays below ~0.5 %
+#: rough CPU cost of a point (2 cores, default rtol): per simulated second of the transient
+#: cut (one doStep) and per sampled communication step; only used to size chunks
+CPU_PER_SIMULATED_S = 0.15
+CPU_PER_SAMPLE_S = 30e-6
+#: a task should carry at least this much work ...
 TARGET_TASK_S = 0.5
+#: ... and, since the one scheduler handles tasks one after another (~1-3 ms each, measured
+#: by benches/study_bench.py), W workers finish tasks W times as fast as one: a task's work must
+#: be >= W t_task / OVERHEAD_SHARE for the scheduler to stay below that share of the time
+SCHEDULER_TASK_S = 2.5e-3
+OVERHEAD_SHARE = 0.02
 #: ... but every worker should get several tasks, for load balance and incremental results
 TASKS_PER_WORKER = 4
 
@@ -55,13 +60,17 @@ class SweepSummary:
 def estimated_point_cpu(study: Study, mesh_period: float = 2 * math.pi / (27 * 314.16)) -> float:
     w = study.window
     cut = w.transient * (mesh_period if w.transient_unit == "periods" else 1.0)
-    return CPU_PER_SIMULATED_S * (cut + w.periods * mesh_period) + 2e-3
+    samples = w.periods * w.samples_per_period
+    return CPU_PER_SIMULATED_S * (cut + w.periods * mesh_period) + CPU_PER_SAMPLE_S * samples
 
 
-def chunk_size(n_points: int, workers: int, point_cpu_s: float) -> int:
-    """Points per task: enough work per task to hide the scheduler's overhead
-    (TARGET_TASK_S), but at least TASKS_PER_WORKER tasks per worker."""
-    by_overhead = math.ceil(TARGET_TASK_S / max(point_cpu_s, 1e-6))
+def chunk_size(n_points: int, workers: int, point_cpu_s: float,
+               task_s: float = SCHEDULER_TASK_S) -> int:
+    """Points per task: enough work per task to hide the scheduler's per-task cost
+    (TARGET_TASK_S, and W t_task / OVERHEAD_SHARE for W workers), but at least
+    TASKS_PER_WORKER tasks per worker."""
+    work = max(TARGET_TASK_S, workers * task_s / OVERHEAD_SHARE)
+    by_overhead = math.ceil(work / max(point_cpu_s, 1e-6))
     by_balance = math.ceil(n_points / max(1, workers * TASKS_PER_WORKER))
     return max(1, min(by_overhead, by_balance))
 
