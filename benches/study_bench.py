@@ -109,18 +109,27 @@ def main() -> int:
     n_side = max(1, int(round(math.sqrt(a.points / 2))))
     study = gearstudy.study_from_dict(study_dict(n_side, n_side), fmu=FMU)
     n = len(study.points)
+    # a quarter of the points (same window): the difference of the two sizes separates the
+    # per-point cost from the per-study one (cluster plugin, FMU extraction, first instance)
+    small = gearstudy.study_from_dict(study_dict(n_side, n_side), fmu=FMU)
+    small.points = study.points[::4]
+    n_small = len(small.points)
     print(f"{n} points; machine: {os.cpu_count()} cores, load average at start "
           f"{' '.join(f'{x:.2f}' for x in os.getloadavg())} (shared with other jobs)")
-    res: dict[str, list[float]] = {k: [] for k in ("bare", "serial", "dask-1", "dask-2")}
+    res: dict[str, list[float]] = {k: [] for k in ("bare", "serial", "dask-1", "dask-2",
+                                                   "bare-small", "dask-1-small")}
     cpu: dict[str, list[float]] = {k: [] for k in res}  # process CPU, or the workers' rows
     cpu_point: list[float] = []
     starts: dict[int, list[float]] = {1: [], 2: []}
     task_cost: list[float] = []
-    task_cpu: list[float] = []  # CPU of the client process (which hosts the scheduler)
+    task_cpu: list[float] = []
+    cpu_point_dask: dict[int, list[float]] = {1: [], 2: []}
+    idle: dict[int, list[float]] = {1: [], 2: []}  # CPU of an idle cluster per wall second  # CPU of the client process (which hosts the scheduler)
     for rep in range(a.repeats):
-        wall, c = bare_loop(study)
-        res["bare"].append(wall)
-        cpu["bare"].append(c)
+        for tag, st in (("bare", study), ("bare-small", small)):
+            wall, c = bare_loop(st)
+            res[tag].append(wall)
+            cpu[tag].append(c)
         with tempfile.TemporaryDirectory() as d:
             t0, c0 = time.perf_counter(), time.process_time()
             gearstudy.sweep(study, out=Path(d) / "s", serial=True, progress=False)
@@ -135,12 +144,20 @@ def main() -> int:
             client.wait_for_workers(workers)
             starts[workers].append(time.perf_counter() - t0)
             try:
-                with tempfile.TemporaryDirectory() as d:
-                    c0 = all_cpu(client)
-                    t0 = time.perf_counter()
-                    gearstudy.sweep(study, out=Path(d) / "s", client=client, progress=False)
-                    res[f"dask-{workers}"].append(time.perf_counter() - t0)
-                    cpu[f"dask-{workers}"].append(all_cpu(client) - c0)
+                runs = [("", study)] + ([("-small", small)] if workers == 1 else [])
+                for suffix, st in runs:
+                    with tempfile.TemporaryDirectory() as d:
+                        c0 = all_cpu(client)
+                        t0 = time.perf_counter()
+                        gearstudy.sweep(st, out=Path(d) / "s", client=client, progress=False)
+                        res[f"dask-{workers}{suffix}"].append(time.perf_counter() - t0)
+                        cpu[f"dask-{workers}{suffix}"].append(all_cpu(client) - c0)
+                        if not suffix:
+                            cpu_point_dask[workers] += gearstudy.read_results(Path(d) / "s").column("cpu_s").to_pylist()
+                time.sleep(0.5)
+                c0, t0 = all_cpu(client), time.perf_counter()
+                time.sleep(3.0)
+                idle[workers].append((all_cpu(client) - c0) / (time.perf_counter() - t0))
                 if workers == 2:
                     m = 2000
                     c0 = all_cpu(client, workers=False)
@@ -162,11 +179,12 @@ def main() -> int:
     t_task_wall = statistics.median(task_cost)
     t_task = statistics.median(task_cpu)
     t_start = statistics.median(starts[2])
-    print(f"\nmedians of {a.repeats} repeats (wall clock, {n} points):")
+    print(f"\nmedians of {a.repeats} repeats (wall clock, {n} points; '-small': {n_small}):")
     for k, v in med.items():
-        what = "process CPU" if k in ("bare", "serial") else "CPU of client+scheduler+workers"
-        print(f"  {k:7s} {v:7.2f} s   {v / n * 1e3:6.1f} ms/point   range "
-              f"{min(res[k]):.2f}-{max(res[k]):.2f} s;  {what} {mcpu[k] / n * 1e3:5.1f} ms/point")
+        what = "process CPU" if not k.startswith("dask") else "CPU of client+scheduler+workers"
+        m = n_small if k.endswith("small") else n
+        print(f"  {k:12s} {v:7.2f} s   {v / m * 1e3:6.1f} ms/point   range "
+              f"{min(res[k]):.2f}-{max(res[k]):.2f} s;  {what} {mcpu[k] / m * 1e3:5.1f} ms/point")
     print(f"  speed-up dask-2 vs serial: {med['serial'] / med['dask-2']:.2f}x, "
           f"vs bare loop: {med['bare'] / med['dask-2']:.2f}x")
     print(f"  overhead per point, wall: serial gearstudy - bare = "
@@ -176,9 +194,20 @@ def main() -> int:
           f"{(mcpu['serial'] - mcpu['bare']) / n * 1e3:.2f} ms, dask-1 - bare = "
           f"{(mcpu['dask-1'] - mcpu['bare']) / n * 1e3:.2f} ms, dask-2 - bare = "
           f"{(mcpu['dask-2'] - mcpu['bare']) / n * 1e3:.2f} ms")
+    dn = n - n_small
+    slope = {k: (mcpu[k] - mcpu[k + "-small"]) / dn for k in ("bare", "dask-1")}
+    fixed = mcpu["dask-1"] - n * slope["dask-1"]
+    print(f"  CPU per additional point ({n_small} -> {n} points): bare {slope['bare'] * 1e3:.2f} ms, "
+          f"dask-1 {slope['dask-1'] * 1e3:.2f} ms -> Dask overhead "
+          f"{(slope['dask-1'] - slope['bare']) * 1e3:.2f} ms/point; Dask fixed CPU per study "
+          f"(plugin, extraction, first instance, idle workers) {fixed:.2f} s")
+    print(f"  an idle cluster's own CPU (heartbeats, monitors, event loops): 1 worker "
+          f"{statistics.median(idle[1]) * 100:.1f} %, 2 workers {statistics.median(idle[2]) * 100:.1f} % of a core")
     print(f"  speed-up an idle 2-core machine would give (CPU-bound): "
           f"2 x bare CPU / dask-2 CPU = {2 * mcpu['bare'] / mcpu['dask-2']:.2f}x")
-    print(f"  CPU per point (rows' cpu_s, median): {t_point * 1e3:.1f} ms")
+    print(f"  CPU per point (rows' cpu_s = the worker thread, median): serial {t_point * 1e3:.1f} ms, "
+          f"dask-1 {statistics.median(cpu_point_dask[1]) * 1e3:.1f} ms, "
+          f"dask-2 {statistics.median(cpu_point_dask[2]) * 1e3:.1f} ms")
     print(f"  scheduler cost per no-op task (2 workers): wall {t_task_wall * 1e3:.2f} ms, "
           f"CPU of the client+scheduler process {t_task * 1e3:.2f} ms")
     print(f"  LocalCluster start: 1 worker {statistics.median(starts[1]):.2f} s, "

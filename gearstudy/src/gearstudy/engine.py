@@ -149,7 +149,7 @@ def sweep(
         plugin = install_fmu(client, study.fmu)
         futures = [
             client.submit(run_chunk_on_worker, plugin, c, settings, pure=False,
-                          key=f"gearstudy-chunk-{c[0][1]}-{j}")
+                          key=f"gearstudy-{store.session}-chunk-{j}")
             for j, c in enumerate(_chunks(todo, n))
         ]
         bar = None

@@ -275,10 +275,15 @@ class PointRunner:
         energy = [ENERGY_IN, ENERGY_LOSS] if ENERGY_IN in self.catalog and ENERGY_LOSS in self.catalog else []
         read = sampled + energy
         y = np.empty((n + 1, len(read)))
-        y[0] = self._get(read)
+        if all(self.catalog.variables[x].type == "Real" for x in read):
+            vrs = [self.catalog.variables[x].value_reference for x in read]
+            get = lambda: s.getReal(vrs)  # noqa: E731 - one call per sample
+        else:
+            get = lambda: self._get(read)  # noqa: E731
+        y[0] = get()
         for j in range(n):
             s.doStep(t0 + j * h, h)
-            y[j + 1] = self._get(read)
+            y[j + 1] = get()
         out: dict = {}
         col = {x: y[:, i] for i, x in enumerate(read)}
         de = {}
