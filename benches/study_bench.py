@@ -8,15 +8,22 @@ study's window: 100 ms transient cut + 10 mesh periods at 32 samples) run
   dask-1   gearstudy.sweep on a LocalCluster with 1 worker process (cluster already up)
   dask-2   the same with 2 worker processes
 
-and the scheduler's own cost per task (2000 no-op tasks on the 2-worker cluster). Figures are
-medians over --repeats runs (wall clock, time.perf_counter). From them, the projected time of
-a 1e5-point study on 64 workers (model in docs/studies.md):
+and the scheduler's own cost per task (2000 no-op tasks on the 2-worker cluster: wall clock,
+and CPU of this process, which hosts the LocalCluster's scheduler). Figures are medians over
+--repeats runs: wall clock (time.perf_counter) and CPU (this process + every worker process via
+Client.run(time.process_time)); on a machine shared with other jobs the wall clock mostly
+measures the others, the CPU figures do not. The 50- and 200-point runs of bare and dask-1 give
+the CPU per additional point; their difference is the Dask path's overhead per point.
+
+From them, the projected time of a 1e5-point study on 64 workers (model in docs/studies.md):
 
   T = t_start + N t_point / W + (N / c) t_task + c t_point
 
-t_point: CPU of one point (median of the rows' cpu_s), W workers, c points per task (the
-engine's chunk_size rule), t_task: scheduler + client cost per task (the no-op figure, paid
-serially by the one scheduler), c t_point: the last chunk's tail, t_start: cluster start.
+t_point: the Dask path's CPU per additional point (dask-1), W workers, c points per task (the
+engine's chunk_size rule with the measured t_task), t_task: the scheduler's CPU per task (one
+scheduler serves all workers, so this part is serial), c t_point: the last chunk's tail,
+t_start: cluster start. The client's Parquet writing per row is printed too; it overlaps with
+the computation and must stay below t_point / W per row.
 
 usage: python benches/study_bench.py [--repeats 3] [--points 200]
 Prints figures; asserts nothing.
