@@ -366,4 +366,4 @@ def run_serial(fmu_path, items, settings) -> list[dict]:
         pool.close()
 
 
-__all__ = ["PointRunner", "RunnerPool", "run_serial", "result_columns", "prepare_settings", "Path"]
+__all__ = ["PointRunner", "RunnerPool", "run_serial", "result_columns", "prepare_settings"]
