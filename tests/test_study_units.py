@@ -76,6 +76,8 @@ def test_study_designs(fmu_path):
     # Latin hypercube: one sample in each quarter of the range
     xs = sorted({p["x1"] for p in s.points})
     assert [int((x + 0.2) / 0.6 * 4) for x in xs] == [0, 1, 2, 3]
+    with pytest.raises(StudyError, match=r"\[window\] unknown key.*'period'.*allowed.*'periods'"):
+        study_from_dict({"window": {"period": 4}}, fmu=fmu_path)
     with pytest.raises(StudyError, match=r"\[list\].*equal lengths"):
         study_from_dict({"list": {"mu": [0.1, 0.2], "T_load": [1, 2, 3]}}, fmu=fmu_path)
 

@@ -112,6 +112,16 @@ def study_from_dict(
     unknown = set(data) - known
     if unknown:
         raise StudyError(f"unknown table(s) {sorted(unknown)}; allowed: {sorted(known)}")
+    allowed = {
+        "study": {"name", "fmu", "description"},
+        "outputs": {"names", "orders"},
+        "window": {"transient", "periodic_settle", "periods", "samples_per_period", "n_orders"},
+        "run": {"chunk_size", "tolerance"},
+    }
+    for table, keys in allowed.items():
+        bad = set(data.get(table, {})) - keys
+        if bad:
+            raise StudyError(f"[{table}] unknown key(s) {sorted(bad)}; allowed: {sorted(keys)}")
     meta = data.get("study", {})
     fmu_path = _fmu_path(fmu, meta.get("fmu"), base)
     cat = catalog or Catalog.from_fmu(fmu_path)
@@ -156,9 +166,6 @@ def study_from_dict(
             raise StudyError(f"[outputs] orders: '{n}' is not an output of the FMU")
 
     w = data.get("window", {})
-    unknown_w = set(w) - {"transient", "periodic_settle", "periods", "samples_per_period", "n_orders"}
-    if unknown_w:
-        raise StudyError(f"[window] unknown key(s) {sorted(unknown_w)}")
     tr, tr_u = parse_duration(w.get("transient", "100 ms"), cat, "[window] transient")
     ps, ps_u = parse_duration(w.get("periodic_settle", "0 periods"), cat, "[window] periodic_settle")
     window = Window(
