@@ -50,6 +50,9 @@ class SweepSummary:
     workers: int
 
     def __str__(self) -> str:
+        if self.ran == 0:
+            what = "all done already" if self.skipped == self.points else "none run now"
+            return f"{self.points} points: {what}; results in {self.out}"
         return (
             f"{self.points} points: {self.skipped} already done, {self.ran} run "
             f"({self.failed} failed) on {self.workers} worker(s) in chunks of {self.chunk_size}, "
