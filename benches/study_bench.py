@@ -5,7 +5,8 @@ study's window: 100 ms transient cut + 10 mesh periods at 32 samples) run
   bare     a bare FMPy loop: one FMU2Slave reused (fmi2Reset), set, initialise, one doStep
            over the cut, 320 doStep + getReal of the same outputs; no reduction, no files
   serial   gearstudy.sweep(serial=True): the same in this process + reductions + Parquet
-  dask-1   gearstudy.sweep on a LocalCluster with 1 worker process (cluster already up)
+  dask-1   gearstudy.sweep on a LocalCluster with 1 worker process (cluster already up; the
+           cluster sweep starts itself: engine.local_cluster)
   dask-2   the same with 2 worker processes
 
 and the scheduler's own cost per task (2000 no-op tasks on the 2-worker cluster: wall clock,
@@ -110,8 +111,8 @@ def main() -> int:
     ap.add_argument("--points", type=int, default=200, help="2 x n x n; 200 -> 10 x 10")
     a = ap.parse_args()
     import gearstudy
-    from distributed import Client, LocalCluster, wait
-    from gearstudy.engine import chunk_size
+    from distributed import Client, wait
+    from gearstudy.engine import chunk_size, local_cluster
     from gearstudy.results import ResultStore
 
     n_side = max(1, int(round(math.sqrt(a.points / 2))))
@@ -154,8 +155,7 @@ def main() -> int:
             write_row.append((time.perf_counter() - t0) / len(rows))
         for workers in (1, 2):
             t0 = time.perf_counter()
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=40)
+            cluster = local_cluster(workers)  # what sweep starts by itself
             client = Client(cluster)
             client.wait_for_workers(workers)
             starts[workers].append(time.perf_counter() - t0)

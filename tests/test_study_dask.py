@@ -31,10 +31,11 @@ def run_log(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def client(run_log):
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=40)
+    from gearstudy.engine import local_cluster
+
+    cluster = local_cluster(2)  # the cluster sweep starts by itself, with 2 workers
     c = Client(cluster)
     yield c
     c.close()

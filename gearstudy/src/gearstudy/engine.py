@@ -131,7 +131,7 @@ def sweep(
         return SweepSummary(out, len(items), len(items) - len(todo), len(todo), failed,
                             time.perf_counter() - t0, n, 1)
 
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     own_cluster = own_client = None
     try:
@@ -139,13 +139,7 @@ def sweep(
             if scheduler:
                 client = own_client = Client(scheduler)
             else:
-                own_cluster = LocalCluster(
-                    n_workers=workers or os.cpu_count() or 1,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                    silence_logs=logging.ERROR,
-                )
+                own_cluster = local_cluster(workers or os.cpu_count() or 1)
                 client = own_client = Client(own_cluster)
         n_workers = max(1, sum(client.nthreads().values()))
         n = study.chunk_size or chunk_size(len(todo), n_workers, estimated_point_cpu(study))
@@ -178,6 +172,23 @@ def sweep(
             own_client.close()
         if own_cluster is not None:
             own_cluster.close()
+
+
+def local_cluster(workers: int):
+    """A LocalCluster of `workers` processes with one thread each, no dashboard, and no
+    statistical profiler in the workers (it samples every 10 ms for the dashboard and cost
+    ~1.7 % of a core per busy worker, measured)."""
+    import dask
+    from distributed import LocalCluster
+
+    with dask.config.set({"distributed.worker.profile.enabled": False}):
+        return LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+        )
 
 
 def _chunks(seq, n):
