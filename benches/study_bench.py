@@ -201,6 +201,8 @@ def main() -> int:
         m = n_small if k.endswith("small") else n
         print(f"  {k:12s} {v:7.2f} s   {v / m * 1e3:6.1f} ms/point   range "
               f"{min(res[k]):.2f}-{max(res[k]):.2f} s;  {what} {mcpu[k] / m * 1e3:5.1f} ms/point")
+    print("  cores this study obtained (CPU / wall): " + ", ".join(
+        f"{k} {mcpu[k] / med[k]:.2f}" for k in ("bare", "serial", "dask-1", "dask-2")))
     print(f"  speed-up dask-2 vs serial: {med['serial'] / med['dask-2']:.2f}x, "
           f"vs bare loop: {med['bare'] / med['dask-2']:.2f}x")
     print(f"  overhead per point, wall: serial gearstudy - bare = "
