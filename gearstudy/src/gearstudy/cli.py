@@ -33,7 +33,7 @@ def main(argv=None) -> int:
     t.add_argument("column", nargs="?", default="efficiency", help="default: efficiency")
     t.add_argument("--x", help="columns of the table (default omega1 if varied)")
     t.add_argument("--y", help="rows of the table (default T_load if varied)")
-    t.add_argument("--format", default="{:.5f}", help="Python format of a value")
+    t.add_argument("--format", default="{:.6g}", help="Python format of a value (default {:.6g})")
     a = p.parse_args(argv)
     from . import plot, sweep
 

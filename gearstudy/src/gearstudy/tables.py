@@ -11,7 +11,7 @@ from .results import read_results
 
 
 def format_table(results, column: str = "efficiency", x: str | None = None,
-                 y: str | None = None, fmt: str = "{:.5f}") -> str:
+                 y: str | None = None, fmt: str = "{:.6g}") -> str:
     table = read_results(results)
     varied = _varied(table)
     axes = [c for c in PREFERRED_AXES if c in varied] + [c for c in varied if c not in PREFERRED_AXES]
