@@ -18,5 +18,14 @@ if [ ! -f .venv/.requirements.sha256 ] || [ "$(cat .venv/.requirements.sha256)" 
     .venv/bin/python -m pip install --quiet --disable-pip-version-check -r requirements.txt
     echo "$_req_hash" > .venv/.requirements.sha256
 fi
+# The study tool gearstudy/ (docs/studies.md), installed editable into the venv; redone when
+# its metadata or the repository's place changes, or when it is not importable.
+_gs_hash="$(cat gearstudy/pyproject.toml - <<<"$REPO" | sha256sum | cut -d' ' -f1)"
+if [ ! -f .venv/.gearstudy.sha256 ] || [ "$(cat .venv/.gearstudy.sha256)" != "$_gs_hash" ] \
+    || ! .venv/bin/python -c "import importlib.util, sys; sys.exit(importlib.util.find_spec('gearstudy') is None)"; then
+    echo "== pip install -e gearstudy"
+    .venv/bin/python -m pip install --quiet --disable-pip-version-check --no-deps -e gearstudy
+    echo "$_gs_hash" > .venv/.gearstudy.sha256
+fi
 VPY="$REPO/.venv/bin/python"
 export MPLBACKEND=Agg

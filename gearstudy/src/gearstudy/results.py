@@ -1,0 +1,98 @@
+"""The results directory of a study.
+
+    OUT/study.toml      a copy of the study file (when it came from a file)
+    OUT/settings.json   what a resumed study must match (FMU GUID, outputs, window, variables)
+    OUT/rows/part-*.parquet   one file per finished chunk, one row per point
+
+A part file is written to a hidden temporary name and renamed when complete, so an interrupted
+study never leaves a half-written part behind (readers skip names starting with '.').
+Column units are stored in the Parquet schema metadata (``units``: column -> unit).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import uuid
+from pathlib import Path
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from .runner import result_columns
+from .units import StudyError
+
+_ARROW = {"float64": pa.float64(), "int64": pa.int64(), "string": pa.string(), "bool": pa.bool_()}
+
+
+class ResultStore:
+    def __init__(self, out: Path, study, overwrite: bool = False):
+        self.out = Path(out)
+        self.rows_dir = self.out / "rows"
+        if overwrite and self.rows_dir.is_dir():
+            shutil.rmtree(self.rows_dir)
+        self.rows_dir.mkdir(parents=True, exist_ok=True)
+        settings = study.settings()
+        meta = self.out / "settings.json"
+        if meta.is_file() and any(self.rows_dir.glob("part-*.parquet")):
+            old = json.loads(meta.read_text())
+            if old != settings:
+                changed = sorted(k for k in settings if old.get(k) != settings.get(k))
+                raise StudyError(
+                    f"{self.out} holds results made with other settings ({', '.join(changed)} "
+                    f"changed); use another output directory, or --overwrite (overwrite=True) to start over"
+                )
+        meta.write_text(json.dumps(settings, indent=1, sort_keys=True))
+        if study.path is not None:
+            shutil.copyfile(study.path, self.out / "study.toml")
+        cols = result_columns(settings, study.catalog)
+        units, display = {}, {}
+        for c, _ in cols:
+            base = c if c in study.catalog else c.rsplit(".", 1)[0]
+            if base in study.catalog:
+                v = study.catalog.variables[base]
+                units[c] = v.unit or "1"
+                du = next((d for d in v.display_units if d.name == v.display_unit), None)
+                if du is not None:
+                    display[c] = [du.name, du.factor, du.offset]
+        units.update(cpu_s="s", t_window="s", mesh_period="s", efficiency="1")
+        self.schema = pa.schema(
+            [pa.field(c, _ARROW[t]) for c, t in cols],
+            metadata={
+                "units": json.dumps(units),
+                "display": json.dumps(display),
+                "varied": json.dumps(study.varied),
+                "study": study.name,
+            },
+        )
+        self.session = uuid.uuid4().hex[:8]
+        self.written = 0
+
+    def done_keys(self) -> set[str]:
+        if not any(self.rows_dir.glob("part-*.parquet")):
+            return set()
+        t = pq.read_table(self.rows_dir, columns=["key"])
+        return set(t.column("key").to_pylist())
+
+    def write(self, rows: list[dict]) -> Path:
+        table = pa.Table.from_pylist(rows, schema=self.schema)
+        name = f"part-{self.session}-{self.written:07d}-{uuid.uuid4().hex[:6]}.parquet"
+        tmp = self.rows_dir / f".{name}.tmp"
+        pq.write_table(table, tmp)
+        os.replace(tmp, self.rows_dir / name)
+        self.written += len(rows)
+        return self.rows_dir / name
+
+
+def read_results(out) -> pa.Table:
+    """All rows of a results directory (or of one Parquet file), sorted by point."""
+    p = Path(out)
+    src = p / "rows" if (p / "rows").is_dir() else p
+    t = pq.read_table(src)
+    return t.sort_by("point")
+
+
+def column_units(table: pa.Table) -> dict:
+    md = table.schema.metadata or {}
+    return json.loads(md.get(b"units", b"{}"))
