@@ -21,8 +21,9 @@ pub mod shooting;
 
 use crate::gear::ParamError;
 use crate::radau5::{self, Options, Radau5, Statistics, Tolerance};
-use crate::rotor::{idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, NY};
-use crate::sim::{RotorProblem, SCALES};
+use crate::rotor::{
+    idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, RotorProblem, NY, SCALES,
+};
 use nalgebra::SVector;
 use std::f64::consts::PI;
 use std::fmt;
@@ -239,7 +240,7 @@ impl PeriodicSystem {
     }
 
     /// RADAU5 options for the period integrations: scalar rtol, atol = rtol times the
-    /// physical scales of the FMU (`sim::SCALES`), index counts of the rotor DAE.
+    /// physical scales of the FMU (`rotor::SCALES`), index counts of the rotor DAE.
     fn options(rtol: f64) -> Options<NY> {
         Options {
             rtol: Tolerance::Scalar(rtol),
