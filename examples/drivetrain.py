@@ -109,10 +109,13 @@ def ensure_fmu() -> Path:
     return FMU
 
 
-def simulate(cfg: Config, fmu: Path | None = None) -> dict:
+def simulate(cfg: Config, fmu: Path | None = None, prescribed_speed=None) -> dict:
     """Runs the drivetrain; returns time series at the communication points ("t", "w_m",
     "T_m", "T_load", "shaft_work" and every name of OUT per stage as "s1.T1" etc.) and
-    "failed": None or the reason the run stopped (FMU error, divergence)."""
+    "failed": None or the reason the run stopped (FMU error, divergence).
+
+    `prescribed_speed(k)`, if given, replaces the motor: the speed w_k is set at point k
+    (open loop; used for the sampled response of the gearbox, `loop_spectral_radius`)."""
     fmu = fmu or ensure_fmu()
     md = read_model_description(str(fmu))
     unzip = extract(str(fmu))
@@ -133,7 +136,7 @@ def simulate(cfg: Config, fmu: Path | None = None) -> dict:
             s.set({**common, **p, "omega1": w, "T_load": tl})
             s.slave.enterInitializationMode()
             s.slave.exitInitializationMode()
-        w_m = cfg.w_ref
+        w_m = cfg.w_ref if prescribed_speed is None else prescribed_speed(0)
         integral = s1.get(["T1"])[0] / cfg.Ki  # T_m = Ki * integral at e = 0
         shaft_work = 0.0
         n = int(round(cfg.t_end / cfg.H))
@@ -159,7 +162,7 @@ def simulate(cfg: Config, fmu: Path | None = None) -> dict:
             a = J + 0.5 * H * cfg.Kp + 0.25 * H * H * cfg.Ki
             rhs = (J - 0.5 * H * cfg.Kp - 0.25 * H * H * cfg.Ki) * w_m + H * cfg.Ki * integral \
                 + H * cfg.Kp * cfg.w_ref + 0.5 * H * H * cfg.Ki * cfg.w_ref - H * T1
-            w_new = rhs / a
+            w_new = rhs / a if prescribed_speed is None else prescribed_speed(k + 1)
             integral += 0.5 * H * ((cfg.w_ref - w_m) + (cfg.w_ref - w_new))
             shaft_work += T1 * 0.5 * (w_m + w_new) * H
             for s in (s1, s2):
@@ -179,6 +182,71 @@ def simulate(cfg: Config, fmu: Path | None = None) -> dict:
         res["s1." + name] = a[:, 5 + j]
         res["s2." + name] = a[:, 5 + len(OUT) + j]
     return res
+
+
+def gearbox_pulse_response(cfg: Config, fmu: Path | None = None, t_resp: float = 0.02,
+                           delta: float = 0.01) -> np.ndarray:
+    """The sampled response of the co-simulated gearbox (both stages, coupled at H as in
+    `simulate`) at the motor interface: g[j] = dT1(t_j) / dw for a pulse of the motor speed
+    held over the first step, j = 0..N (g[0] = 0: omega1 has no direct feedthrough).
+    From two open-loop runs from the same start, one with a speed step of `delta` at t = 0
+    (the difference of the step responses is the pulse response)."""
+    n = int(round(t_resp / cfg.H))
+    c = Config(**{**cfg.__dict__, "t_end": n * cfg.H, "t_step": 1.0})
+    ref = simulate(c, fmu, prescribed_speed=lambda k: cfg.w_ref)
+    stp = simulate(c, fmu, prescribed_speed=lambda k: cfg.w_ref + delta)
+    step = (stp["s1.T1"] - ref["s1.T1"]) / delta
+    return np.diff(step, prepend=0.0)
+
+
+def loop_spectral_radius(cfg: Config, g: np.ndarray) -> float:
+    """Spectral radius of the sampled loop motor + PI (trapezoidal, as in `simulate`) with
+    the gearbox as the linear response g (`gearbox_pulse_response`): T1_k = sum_(j >= 1)
+    g[j] w_(k-j). Below 1 the coupled co-simulation is stable; above 1 an oscillation grows
+    by that factor per step. State: (w_k, I_k, w_(k-1), ..., w_(k-n))."""
+    n = len(g) - 1
+    H, J, Kp, Ki = cfg.H, cfg.J_m, cfg.Kp, cfg.Ki
+    a = J + 0.5 * H * Kp + 0.25 * H * H * Ki
+    m = np.zeros((n + 2, n + 2))
+    # w_(k+1) = c0 w_k + (H Ki / a) I_k - (H / a) T1_k
+    m[0, 0] = (J - 0.5 * H * Kp - 0.25 * H * H * Ki) / a
+    m[0, 1] = H * Ki / a
+    m[0, 2:] = -(H / a) * g[1:]
+    # I_(k+1) = I_k - H/2 (w_k + w_(k+1))
+    m[1] = -0.5 * H * m[0]
+    m[1, 0] -= 0.5 * H
+    m[1, 1] += 1.0
+    # shift register: w_(k+1-1) = w_k, w_(k+1-j) = w_(k-(j-1))
+    m[2, 0] = 1.0
+    for i in range(3, n + 2):
+        m[i, i - 1] = 1.0
+    return float(max(abs(np.linalg.eigvals(m))))
+
+
+def min_stable_inertia(cfg: Config, g: np.ndarray, grid=None) -> float:
+    """Smallest motor inertia J_m of `grid` (default 1e-4 .. 0.1 kg m^2, 10 per decade)
+    from which on every larger one gives `loop_spectral_radius` < 1 (the PI gains of `cfg`
+    kept); inf if the largest is unstable. Stability need not be monotonic in J_m, so
+    the grid is scanned instead of bisected."""
+    grid = np.logspace(-4, -1, 31) if grid is None else grid
+    best = math.inf
+    for j in sorted(grid, reverse=True):
+        if loop_spectral_radius(Config(**{**cfg.__dict__, "J_m": float(j)}), g) < 1.0:
+            best = float(j)
+        else:
+            break
+    return best
+
+
+def stability_table(steps, filters, fmu: Path | None = None) -> list[tuple[float, float, float]]:
+    """(filter_hz, H, smallest stable J_m) for the default gearbox and PI gains."""
+    rows = []
+    for fc in filters:
+        for H in steps:
+            cfg = Config(H=H, filter_hz=fc, tolerance=1e-6)
+            g = gearbox_pulse_response(cfg, fmu)
+            rows.append((fc, H, min_stable_inertia(cfg, g)))
+    return rows
 
 
 def power_balance(res: dict, t0: float, t1: float) -> dict:
@@ -251,7 +319,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--filter-hz", type=float, default=Config.filter_hz)
     ap.add_argument("--t-end", type=float, default=Config.t_end)
     ap.add_argument("--out", type=Path, default=REPO / "out" / "drivetrain")
+    ap.add_argument("--stability", action="store_true",
+                    help="print the smallest stable motor inertia per H and filter frequency")
     a = ap.parse_args(argv)
+    if a.stability:
+        print("filter_hz  H [s]     smallest stable J_m [kg m^2] (sampled-loop spectral radius < 1)")
+        for fc, H, j in stability_table([2.5e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3], [500.0, 1000.0, 2000.0]):
+            print(f"{fc:8.0f}  {H:.1e}  {j:.3g}")
+        return 0
     cfg = Config(H=a.H, J_m=a.J_m, filter_hz=a.filter_hz, t_end=a.t_end)
     res = simulate(cfg)
     if res["failed"]:

@@ -907,4 +907,42 @@ mod tests {
             "required variable H_V",
         );
     }
+
+    #[test]
+    fn enumerations_are_checked_and_read_as_integers() {
+        let (table, _) = process(XML).expect("valid");
+        // read and written with fmi2Get/SetInteger, items listed for the messages
+        assert!(table.contains("(VarType::Integer, 1010) => Some("));
+        assert!(table.contains("items: &[\"rest\", \"static_equilibrium\", \"periodic\"]"));
+        assert!(table.contains("items: &[\"warn\", \"discard\"]"));
+        rejects(
+            &XML.replacen(
+                "<Enumeration declaredType=\"Initialization\" start=\"1\"/>",
+                "<Enumeration declaredType=\"Initialization\" start=\"4\"/>",
+                1,
+            ),
+            "initialization: start value \"4\" is not a valid Enumeration",
+        );
+        rejects(
+            &XML.replacen(
+                "<Enumeration declaredType=\"Initialization\" start=\"1\"/>",
+                "<Enumeration start=\"1\"/>",
+                1,
+            ),
+            "initialization: an Enumeration variable needs a declaredType",
+        );
+        rejects(
+            &XML.replacen(
+                "<Item name=\"periodic\" value=\"3\"",
+                "<Item name=\"periodic\" value=\"4\"",
+                1,
+            ),
+            "items must be numbered 1, 2, ... in order",
+        );
+        // Integer and Enumeration share the value references of fmi2Get/SetInteger
+        rejects(
+            &XML.replacen("valueReference=\"1011\"", "valueReference=\"1001\"", 1),
+            "valueReference 1001 is used twice for type Integer",
+        );
+    }
 }
