@@ -19,6 +19,9 @@
 //! vibration about the static deflection, so the chord iteration contracts fast, and each
 //! further iteration costs one period integration instead of thirteen.
 
+// `!(a > b)` on purpose: it also counts NaN as outside, which `a <= b` would let pass.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::periodic::{PeriodicError, PeriodicSystem, Reduced, NZ};
 use crate::rotor::{idx, GearedRotor, InitialConditions, ModelError, NY, SCALES};
 use nalgebra::{Complex, SMatrix, SVector};
@@ -255,7 +258,7 @@ fn scaled_norm(r: &Reduced, s: &Reduced) -> f64 {
 
 /// Start of the periodic orbit (reduced state at phi1 = 0) by chord shooting from the
 /// static equilibrium (see the module docs), the period maps at `rtol`, the monodromy at
-/// [`MONODROMY_RTOL`] (or `rtol` if larger); checks the stability of the orbit with the
+/// `MONODROMY_RTOL` (1e-8, or `rtol` if larger); checks the stability of the orbit with the
 /// eigenvalues of the monodromy.
 ///
 /// # Errors

@@ -14,12 +14,15 @@
 //! collocation polynomial of the step in which it happened (Illinois regula falsi on the
 //! indicator, to [`LOCATE_TOL`]), and it is reported once: with [`OnViolation::Warn`] in the
 //! [`StepReport`](super::StepReport) (the FMU returns fmi2Warning with a message), with
-//! [`OnViolation::Discard`] as [`SimError::Validity`](super::SimError::Validity): the FMU time
+//! [`OnViolation::Discard`] as [`SimError::Validity`]: the FMU time
 //! and the last successful time are set to the instant and fmi2DoStep returns fmi2Discard.
 //! An episode ends when the condition turns false again; the next start is a new episode.
 //! A condition that holds at the start state is an episode starting there (reported by the
 //! first doStep). Episodes shorter than one internal step can be missed (the indicator is
 //! sampled at step ends); steps are at most h_max.
+
+// `!(a > b)` on purpose: it also counts NaN as outside, which `a <= b` would let pass.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::{SimError, Simulation};
 use crate::radau5::Radau5;
@@ -72,7 +75,7 @@ pub struct Violation {
     pub t: f64,
     /// Time of the state that revealed it (a step end or communication point) in s.
     pub t_seen: f64,
-    /// Fn [N] or omega1_filtered [rad/s] there.
+    /// Fn in N or omega1_filtered in rad/s there.
     pub value: f64,
 }
 
