@@ -381,3 +381,46 @@ fn chord_matrix(
     };
     Ok(((m - SMatrix::<f64, NZ, NZ>::identity()).lu(), p))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::periodic::shooting::{shoot, ShootingOptions};
+    use crate::rotor::Params;
+
+    #[test]
+    fn chord_shooting_finds_the_orbit_of_full_newton_shooting() {
+        // reference: src/periodic's Newton with a fresh monodromy per iteration, started
+        // after a 20-period transient; here: chord from the static equilibrium
+        let mut sys = PeriodicSystem::new(Params::default(), 314.159, 0.0).unwrap();
+        let (z0, _) = sys.static_equilibrium().unwrap();
+        let reference = shoot(&mut sys, &z0, &ShootingOptions::default()).unwrap();
+        let (z, report) = periodic_orbit(&mut sys, 1e-13).unwrap();
+        let pp = reference
+            .orbit
+            .iter()
+            .map(|p| p.u[0])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            });
+        let pp = pp.1 - pp.0;
+        for i in 0..6 {
+            assert!((z[i] - reference.z[i]).abs() <= 1e-6 * pp, "u[{i}]");
+        }
+        assert!((report.floquet_max_abs - reference.floquet_max_abs()).abs() < 0.02);
+        assert!(report.periods_integrated <= 20, "{report:?}");
+    }
+
+    #[test]
+    fn no_orbit_without_a_positive_speed_says_why() {
+        let mut model = GearedRotor::new(crate::rotor::Params::default()).unwrap();
+        model.set_inputs(crate::rotor::Inputs::default());
+        model.initialize(0.0).unwrap();
+        let e = initial_state(&model, 0.0, Initialization::Periodic, 1e-6).unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            msg.contains("0 < omega1") && msg.contains("initialization = rest"),
+            "{msg}"
+        );
+    }
+}

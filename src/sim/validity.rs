@@ -339,3 +339,41 @@ impl Simulation {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locate_finds_the_first_sign_change_to_the_tolerance() {
+        // cos(t) - 0.5 falls through 0 at pi/3; a steep and a flat end of the bracket
+        let g = |t: f64| t.cos() - 0.5;
+        let (a, b) = (0.0, 2.0);
+        let t = locate(g, a, g(a), b, g(b));
+        let root = std::f64::consts::FRAC_PI_3;
+        assert!(t >= root && t - root <= LOCATE_TOL, "{t} vs {root}");
+        // a kink (|.|-like, as lambda at a mesh event) and a function stuck at the ends
+        let h = |t: f64| {
+            if t < 0.3 {
+                1.0 - t
+            } else {
+                0.7 - 100.0 * (t - 0.3)
+            }
+        };
+        let t = locate(h, 0.0, h(0.0), 1.0, h(1.0));
+        assert!((t - 0.307).abs() <= 2.0 * LOCATE_TOL, "{t}");
+    }
+
+    #[test]
+    fn monitor_flags_survive_their_encoding() {
+        for b in 0..32u32 {
+            let m = Monitor::from_bits(b, 1.5);
+            assert_eq!(m.bits(), b);
+            assert_eq!(m.t_checked, 1.5);
+        }
+        let m = Monitor::new(0.0, -1.0, 0.0);
+        assert!(m.lift_off && m.reversed && m.pending_lift_off && m.pending_reversal);
+        let m = Monitor::new(0.0, 1.0, f64::NAN);
+        assert!(!m.lift_off && m.reversed, "NaN speed counts as outside");
+    }
+}
