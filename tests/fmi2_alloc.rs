@@ -41,7 +41,10 @@ fn do_step_and_get_real_do_not_allocate() {
         };
         assert_eq!(st, Fmi2Status::OK);
         // A master re-setting an unchanged input, and a held input step every 100 steps.
-        let w = if (k / 100) % 2 == 0 { 314.159 } else { 320.0 };
+        // (316, not 320 rad/s: the step down from 320 during the start transient lifts the
+        // teeth off at 4.45 ms, Fn down to -128 N, which the FMU now reports with
+        // fmi2Warning and a message.)
+        let w = if (k / 100) % 2 == 0 { 314.159 } else { 316.0 };
         let st = unsafe { geared_rotor::fmi2::fmi2SetReal(f.c, &omega1, 1, &w) };
         assert_eq!(st, Fmi2Status::OK);
     }

@@ -10,7 +10,10 @@ use super::variables::{
 use crate::gear::{GearData, ParamError};
 use crate::rotor::{FrictionLaw, Outputs, Params, RotorData};
 use crate::sim::codec::{self, DecodeError, Reader, Writer};
-use crate::sim::{Input, SimError, SimState, Simulation, SolverSettings, RTOL_MAX, RTOL_MIN};
+use crate::sim::{
+    Initialization, Input, OnViolation, SimError, SimState, Simulation, SolverSettings, RTOL_MAX,
+    RTOL_MIN,
+};
 use std::ffi::CString;
 use std::fmt;
 
@@ -234,6 +237,11 @@ impl FmuError {
                 func: "fmi2DoStep",
                 error: SimError::Model(_),
             } => Fmi2Status::Discard,
+            // The run left the model's validity with on_lift_off = discard (sim::validity).
+            FmuError::Sim {
+                func: "fmi2DoStep",
+                error: SimError::Validity(_),
+            } => Fmi2Status::Discard,
             FmuError::StatusNotAvailable { .. } => Fmi2Status::Discard,
             FmuError::Panic { .. } | FmuError::AfterFatal { .. } => Fmi2Status::Fatal,
             _ => Fmi2Status::Error,
@@ -447,6 +455,22 @@ fn calculated_value(g: &crate::gear::PairGeometry, var: Var) -> Option<f64> {
     })
 }
 
+/// The error for an Enumeration value outside its items, listing them.
+fn enum_error(var: Var, x: f64) -> ParamError {
+    let v = variables::variable(var);
+    let items: Vec<String> = v
+        .items
+        .iter()
+        .enumerate()
+        .map(|(k, n)| format!("{} = {n}", k + 1))
+        .collect();
+    ParamError {
+        name: v.name,
+        value: x,
+        requirement: format!("one of {}", items.join(", ")),
+    }
+}
+
 fn input_of(var: Var) -> Option<Input> {
     match var {
         Var::omega1 => Some(Input::Omega1),
@@ -493,12 +517,13 @@ impl Instance {
         self.sim.as_ref()
     }
 
-    /// Sends a message to the master's logger. Errors and discards are always sent;
-    /// other messages only when their category is enabled by fmi2SetDebugLogging.
+    /// Sends a message to the master's logger. Errors, discards and warnings (the reason
+    /// for a status other than OK) are always sent; other messages only when their category
+    /// is enabled by fmi2SetDebugLogging.
     pub fn log(&self, status: Fmi2Status, category: Category, msg: &str) {
         let forced = matches!(
             status,
-            Fmi2Status::Error | Fmi2Status::Fatal | Fmi2Status::Discard
+            Fmi2Status::Error | Fmi2Status::Fatal | Fmi2Status::Discard | Fmi2Status::Warning
         );
         if !forced && !self.categories[category as usize] {
             return;
@@ -725,6 +750,22 @@ impl Instance {
         })
     }
 
+    /// The Enumeration parameter `initialization` (values checked at the set as well).
+    fn initialization(&self) -> Result<Initialization, ParamError> {
+        let x = self.v(Var::initialization);
+        Initialization::from_code(x as i32)
+            .filter(|_| x.fract() == 0.0)
+            .ok_or_else(|| enum_error(Var::initialization, x))
+    }
+
+    /// The Enumeration parameter `on_lift_off`.
+    fn on_violation(&self) -> Result<OnViolation, ParamError> {
+        let x = self.v(Var::on_lift_off);
+        OnViolation::from_code(x as i32)
+            .filter(|_| x.fract() == 0.0)
+            .ok_or_else(|| enum_error(Var::on_lift_off, x))
+    }
+
     fn settings(&self) -> (SolverSettings, &'static str) {
         match self.experiment.tolerance {
             Some(t) => (
@@ -752,12 +793,16 @@ impl Instance {
         let sim_err = |error| FmuError::Sim { func, error };
         let params = self.params().map_err(|e| sim_err(SimError::Param(e)))?;
         let (settings, _) = self.settings();
-        let mut sim = Simulation::new(
+        let initialization = self
+            .initialization()
+            .map_err(|e| sim_err(SimError::Param(e)))?;
+        let mut sim = Simulation::with_initialization(
             params,
             settings,
             self.experiment.start,
             self.v(Var::omega1),
             self.v(Var::T_load),
+            initialization,
         )
         .map_err(sim_err)?;
         if self.input_der[0] != 0.0 {
@@ -782,7 +827,26 @@ impl Instance {
     pub fn exit_initialization_mode(&mut self) -> Result<(), FmuError> {
         let func = "fmi2ExitInitializationMode";
         self.guard(func, allowed::EXIT_INIT)?;
+        self.on_violation().map_err(|e| FmuError::Sim {
+            func,
+            error: SimError::Param(e),
+        })?;
         self.ensure_sim(func)?;
+        if let (Ok(init), Some(sim)) = (self.initialization(), self.sim.as_ref()) {
+            let r = sim.init_report();
+            if init == Initialization::Periodic && self.enabled(Category::Solver) {
+                self.log(
+                    Fmi2Status::OK,
+                    Category::Solver,
+                    &format!(
+                        "initialization = periodic: orbit by chord shooting from the static equilibrium, \
+                         {} iterations, scaled residual {:.2e}, largest Floquet multiplier {:.4}, \
+                         {} mesh periods integrated ({} RADAU5 steps at rtol {:e})",
+                        r.iterations, r.residual, r.floquet_max_abs, r.periods_integrated, r.steps, r.rtol
+                    ),
+                );
+            }
+        }
         let (s, source) = self.settings();
         if self.enabled(Category::Solver) {
             self.log(
@@ -959,6 +1023,12 @@ impl Instance {
                     },
                 });
             }
+            if !var.items.is_empty() && variables::item_name(var, x).is_none() {
+                return Err(FmuError::Sim {
+                    func,
+                    error: SimError::Param(enum_error(var.var, x)),
+                });
+            }
         }
         for (i, &vr) in vrs.iter().enumerate() {
             let var = Self::lookup(func, ty, vr)?;
@@ -1086,13 +1156,16 @@ impl Instance {
         Ok(())
     }
 
-    /// fmi2DoStep.
+    /// fmi2DoStep. Returns fmi2Warning when an episode outside the model's validity
+    /// started in the step (lift-off, drive reversal; `on_lift_off = warn`), with a message.
     ///
     /// # Errors
-    /// Illegal call, bad h or communication point (Error), solver failure (Discard).
-    pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<(), FmuError> {
+    /// Illegal call, bad h or communication point (Error), solver failure or a violation
+    /// with `on_lift_off = discard` (Discard).
+    pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<Fmi2Status, FmuError> {
         let func = "fmi2DoStep";
         self.guard(func, allowed::DO_STEP)?;
+        let policy = self.on_violation().unwrap_or_default();
         let sim = self.sim.as_mut().ok_or_else(|| FmuError::BadArgument {
             func,
             message: "no simulation".into(),
@@ -1112,9 +1185,30 @@ impl Instance {
                 });
             }
         }
+        sim.set_on_violation(policy);
         let r = sim.do_step(ccp, h);
         self.outputs = None;
         let report = r.map_err(|error| FmuError::Sim { func, error })?;
+        let mut status = Fmi2Status::OK;
+        for v in report.violations.iter().flatten() {
+            self.log(
+                Fmi2Status::Warning,
+                Category::Warning,
+                &format!("{func}: {v}"),
+            );
+            status = Fmi2Status::Warning;
+        }
+        if report.violations_dropped > 0 {
+            self.log(
+                Fmi2Status::Warning,
+                Category::Warning,
+                &format!(
+                    "{func}: {} further episodes outside the model's validity in [{t0}, {}] s",
+                    report.violations_dropped,
+                    ccp + h
+                ),
+            );
+        }
         if report.contact_changes > 0 && self.enabled(Category::Events) {
             let what = if report.contact_lost {
                 "lifted off (lambda < 0)"
@@ -1144,7 +1238,7 @@ impl Instance {
                 ),
             );
         }
-        Ok(())
+        Ok(status)
     }
 
     /// Time of the last successful step (fmi2GetRealStatus(fmi2LastSuccessfulTime)).

@@ -792,7 +792,6 @@ pub unsafe extern "C" fn fmi2DoStep(
     unsafe {
         call(c, "fmi2DoStep", |inst| {
             inst.do_step(current_communication_point, communication_step_size)
-                .and(OK)
         })
     }
 }

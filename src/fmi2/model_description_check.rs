@@ -122,6 +122,8 @@ struct Var {
     start: Option<String>,
     min: Option<String>,
     max: Option<String>,
+    /// Enumeration: the item names of the declared type, values 1..=n in order.
+    items: Vec<String>,
 }
 
 fn fail(msg: String) -> ! {
@@ -180,6 +182,8 @@ struct Parsed {
     cosim: Option<HashMap<String, String>>,
     units: HashMap<String, Vec<String>>, // unit -> display units
     types: HashMap<String, (Option<String>, Option<String>)>, // name -> (unit, displayUnit)
+    /// Enumeration SimpleTypes: name -> (item name, item value) in declaration order.
+    enums: HashMap<String, Vec<(String, String)>>,
     categories: Vec<String>,
     vars: Vec<Var>,
     outputs: Vec<usize>,
@@ -197,6 +201,7 @@ fn parse(text: &str) -> Parsed {
         cosim: None,
         units: HashMap::new(),
         types: HashMap::new(),
+        enums: HashMap::new(),
         categories: Vec::new(),
         vars: Vec::new(),
         outputs: Vec::new(),
@@ -278,6 +283,25 @@ fn parse(text: &str) -> Parsed {
                         t.clone(),
                         (a.get("unit").cloned(), a.get("displayUnit").cloned()),
                     );
+                    if name == "Enumeration" {
+                        p.enums.insert(t.clone(), Vec::new());
+                    }
+                }
+            }
+            "Item" if parent == "Enumeration" => {
+                let t = cur_type
+                    .clone()
+                    .unwrap_or_else(|| fail("Item outside an Enumeration SimpleType".into()));
+                let item = (
+                    a.get("name")
+                        .cloned()
+                        .unwrap_or_else(|| fail(format!("{t}: Item without name"))),
+                    a.get("value")
+                        .cloned()
+                        .unwrap_or_else(|| fail(format!("{t}: Item without value"))),
+                );
+                if let Some(items) = p.enums.get_mut(&t) {
+                    items.push(item);
                 }
             }
             "Category" => p.categories.push(
@@ -409,13 +433,25 @@ fn check(p: &mut Parsed) {
         if v.ty.is_empty() {
             fail(format!("{n}: no type element (Real/Integer/Boolean)"));
         }
-        if !matches!(v.ty.as_str(), "Real" | "Integer" | "Boolean") {
+        if !matches!(
+            v.ty.as_str(),
+            "Real" | "Integer" | "Boolean" | "Enumeration"
+        ) {
             fail(format!("{n}: type {} is not supported by this FMU", v.ty));
         }
-        if !vrs.insert((v.ty.clone(), v.vr)) {
+        if v.ty == "Enumeration" {
+            v.items = enum_items(&n, v.declared_type.as_deref(), &p.enums);
+        }
+        // Enumerations are read and written with fmi2Get/SetInteger: one namespace.
+        let access = if v.ty == "Enumeration" {
+            "Integer"
+        } else {
+            v.ty.as_str()
+        };
+        if !vrs.insert((access.to_string(), v.vr)) {
             fail(format!(
-                "{n}: valueReference {} is used twice for type {}",
-                v.vr, v.ty
+                "{n}: valueReference {} is used twice for type {access}",
+                v.vr
             ));
         }
         let ok_name = !n.is_empty()
@@ -476,6 +512,9 @@ fn check(p: &mut Parsed) {
             let ok = match v.ty.as_str() {
                 "Real" => s.parse::<f64>().map(f64::is_finite).unwrap_or(false),
                 "Integer" => s.parse::<i32>().is_ok(),
+                "Enumeration" => s
+                    .parse::<usize>()
+                    .is_ok_and(|k| k >= 1 && k <= v.items.len()),
                 _ => matches!(s.as_str(), "true" | "false" | "1" | "0"),
             };
             if !ok {
@@ -604,6 +643,36 @@ fn check(p: &mut Parsed) {
     }
 }
 
+/// Items of an Enumeration variable's declared type; their values must be 1..=n in
+/// declaration order (the FMU checks a set value against that range and names the items).
+fn enum_items(
+    n: &str,
+    declared: Option<&str>,
+    enums: &HashMap<String, Vec<(String, String)>>,
+) -> Vec<String> {
+    let dt = declared.unwrap_or_else(|| {
+        fail(format!(
+            "{n}: an Enumeration variable needs a declaredType (an Enumeration SimpleType)"
+        ))
+    });
+    let items = enums.get(dt).unwrap_or_else(|| {
+        fail(format!(
+            "{n}: declaredType {dt} is not an Enumeration SimpleType"
+        ))
+    });
+    if items.is_empty() {
+        fail(format!("{n}: Enumeration {dt} has no Item"));
+    }
+    for (k, (name, value)) in items.iter().enumerate() {
+        if value.parse::<usize>().ok() != Some(k + 1) {
+            fail(format!(
+                "{n}: Item {name} of {dt} has value {value}; items must be numbered 1, 2, ... in order"
+            ));
+        }
+    }
+    items.iter().map(|(name, _)| name.clone()).collect()
+}
+
 fn rust_variant(name: &str) -> String {
     name.replace('.', "_")
 }
@@ -647,7 +716,7 @@ fn generate(p: &Parsed, guid: &str) -> String {
     for v in &p.vars {
         let ty = match v.ty.as_str() {
             "Real" => "VarType::Real",
-            "Integer" => "VarType::Integer",
+            "Integer" | "Enumeration" => "VarType::Integer",
             _ => "VarType::Boolean",
         };
         let caus = match v.causality.as_str() {
@@ -680,7 +749,7 @@ fn generate(p: &Parsed, guid: &str) -> String {
         let _ = writeln!(
             s,
             "    Variable {{ var: Var::{}, name: {:?}, vr: {}, ty: {ty}, causality: {caus}, variability: {var}, \
-             start: {}, min: {}, max: {}, unit: {:?}, display_unit: {:?}, description: {:?} }},",
+             start: {}, min: {}, max: {}, unit: {:?}, display_unit: {:?}, description: {:?}, items: &{:?} }},",
             rust_variant(&v.name),
             v.name,
             v.vr,
@@ -689,7 +758,8 @@ fn generate(p: &Parsed, guid: &str) -> String {
             num(&v.max),
             v.unit.clone().unwrap_or_default(),
             v.display_unit.clone().unwrap_or_default(),
-            v.description.clone().unwrap_or_default()
+            v.description.clone().unwrap_or_default(),
+            v.items
         );
     }
     let _ = writeln!(s, "];");
@@ -703,7 +773,12 @@ fn generate(p: &Parsed, guid: &str) -> String {
     );
     let _ = writeln!(s, "    match (ty, vr) {{");
     for (i, v) in p.vars.iter().enumerate() {
-        let _ = writeln!(s, "        (VarType::{}, {}) => Some({i}),", v.ty, v.vr);
+        let ty = if v.ty == "Enumeration" {
+            "Integer"
+        } else {
+            v.ty.as_str()
+        };
+        let _ = writeln!(s, "        (VarType::{ty}, {}) => Some({i}),", v.vr);
     }
     let _ = writeln!(s, "        _ => None,");
     let _ = writeln!(s, "    }}");
@@ -834,6 +909,44 @@ mod tests {
         rejects(
             &XML.replacen("name=\"H_V\"", "name=\"H_W\"", 1),
             "required variable H_V",
+        );
+    }
+
+    #[test]
+    fn enumerations_are_checked_and_read_as_integers() {
+        let (table, _) = process(XML).expect("valid");
+        // read and written with fmi2Get/SetInteger, items listed for the messages
+        assert!(table.contains("(VarType::Integer, 1010) => Some("));
+        assert!(table.contains("items: &[\"rest\", \"static_equilibrium\", \"periodic\"]"));
+        assert!(table.contains("items: &[\"warn\", \"discard\"]"));
+        rejects(
+            &XML.replacen(
+                "<Enumeration declaredType=\"Initialization\" start=\"1\"/>",
+                "<Enumeration declaredType=\"Initialization\" start=\"4\"/>",
+                1,
+            ),
+            "initialization: start value \"4\" is not a valid Enumeration",
+        );
+        rejects(
+            &XML.replacen(
+                "<Enumeration declaredType=\"Initialization\" start=\"1\"/>",
+                "<Enumeration start=\"1\"/>",
+                1,
+            ),
+            "initialization: an Enumeration variable needs a declaredType",
+        );
+        rejects(
+            &XML.replacen(
+                "<Item name=\"periodic\" value=\"3\"",
+                "<Item name=\"periodic\" value=\"4\"",
+                1,
+            ),
+            "items must be numbered 1, 2, ... in order",
+        );
+        // Integer and Enumeration share the value references of fmi2Get/SetInteger
+        rejects(
+            &XML.replacen("valueReference=\"1011\"", "valueReference=\"1001\"", 1),
+            "valueReference 1001 is used twice for type Integer",
         );
     }
 }

@@ -71,6 +71,9 @@ pub struct Variable {
     pub display_unit: &'static str,
     /// Description.
     pub description: &'static str,
+    /// Enumeration variables (read and written as Integer): the item names, item k + 1
+    /// at position k; empty for every other variable.
+    pub items: &'static [&'static str],
 }
 
 include!(concat!(env!("OUT_DIR"), "/variables_gen.rs"));
@@ -88,6 +91,14 @@ pub fn variable(var: Var) -> &'static Variable {
 /// Look a variable up by type and value reference.
 pub fn lookup(ty: VarType, vr: u32) -> Option<&'static Variable> {
     index_of(ty, vr).map(|i| &VARIABLES[i])
+}
+
+/// The item name of an Enumeration value (None outside 1..=n or for other variables).
+pub fn item_name(var: &Variable, value: f64) -> Option<&'static str> {
+    if value.fract() != 0.0 || value < 1.0 {
+        return None;
+    }
+    var.items.get(value as usize - 1).copied()
 }
 
 /// Look a variable up by name.

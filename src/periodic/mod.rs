@@ -21,8 +21,9 @@ pub mod shooting;
 
 use crate::gear::ParamError;
 use crate::radau5::{self, Options, Radau5, Statistics, Tolerance};
-use crate::rotor::{idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, NY};
-use crate::sim::{RotorProblem, SCALES};
+use crate::rotor::{
+    idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, RotorProblem, NY, SCALES,
+};
 use nalgebra::SVector;
 use std::f64::consts::PI;
 use std::fmt;
@@ -239,7 +240,8 @@ impl PeriodicSystem {
     }
 
     /// RADAU5 options for the period integrations: scalar rtol, atol = rtol times the
-    /// physical scales of the FMU (`sim::SCALES`), index counts of the rotor DAE.
+    /// physical scales of the FMU (`rotor::SCALES`), index counts, quadratures and
+    /// second-order structure of the rotor DAE.
     fn options(rtol: f64) -> Options<NY> {
         Options {
             rtol: Tolerance::Scalar(rtol),
@@ -247,6 +249,10 @@ impl PeriodicSystem {
             n1: crate::rotor::N_INDEX1,
             n2: crate::rotor::N_INDEX2,
             max_steps: 1_000_000,
+            // The structure the FMU's stepper uses too (`sim::SolverSettings::options`):
+            // energies as quadratures, u' = v eliminated (12 x 12 instead of 22 x 22 LUs).
+            quadrature: std::array::from_fn(|i| (idx::E_IN..=idx::E_LOAD).contains(&i)),
+            second_order: Some((6, idx::V)),
             ..Options::default()
         }
     }

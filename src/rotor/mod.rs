@@ -7,10 +7,12 @@
 
 mod dae;
 pub(crate) mod params;
+mod problem;
 
 pub use crate::gear::FrictionLaw;
 pub use dae::{GearedRotor, InitialConditions};
 pub use params::{Inputs, Params, RotorData};
+pub use problem::{RotorProblem, SCALES};
 
 use std::fmt;
 

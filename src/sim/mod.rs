@@ -24,6 +24,8 @@
 //!   time" of FMI's `fmi2Discard`).
 
 pub mod codec;
+pub mod init;
+pub mod validity;
 
 use crate::gear::{GearData, ParamError};
 use crate::radau5::{
@@ -32,48 +34,14 @@ use crate::radau5::{
 use crate::rotor::{
     idx, FrictionLaw, GearedRotor, Inputs, ModelError, Outputs, Params, RotorData, NY,
 };
+/// Moved to `rotor` (shared with `periodic`); re-exported here for existing code.
+pub use crate::rotor::{RotorProblem, SCALES};
 use codec::{DecodeError, Reader, Writer};
+pub use init::{InitError, InitReport, Initialization};
 use nalgebra::{SMatrix, SVector};
 use std::fmt;
-
-/// Physical scale of each state component; `atol_i = rtol * SCALES[i]`, so that an
-/// absolute error of `rtol` relative to the typical magnitude of a component is accepted
-/// even where the component itself passes through zero.
-///
-/// - centre displacements u (Q..Q+6): 1e-5 m, the static bearing deflection under the
-///   nominal 2.7 kN contact force with k = 2e8 N/m (model.md §10);
-/// - 7th position coordinate xi (transmission error along the line of action, metres, see
-///   `rotor::idx::Q`): 1e-5 m, as the displacements;
-/// - centre velocities (V..V+6): 1e-2 m/s, vibration of ~1e-6 m at the 1350 Hz mesh frequency;
-/// - omega2 (V+6) and the filtered omega1: 1 rad/s; the filter's d(omega1)/dt: 1e3 rad/s^2;
-/// - phi1: 2.5e-4 rad = 1e-5 m on a base radius of ~40 mm. phi1 grows without bound, so
-///   its *relative* tolerance is also reduced to `rtol * PHI1_RTOL_FACTOR`: the allowance
-///   `rtol_i |phi1|` would otherwise grow with time (phi1 sets the mesh phase);
-/// - energies E_in, E_loss, E_damp, E_load: 1 J (E_in reaches ~1e3 J in 50 ms);
-/// - lambda: 1e3 N, the order of the nominal contact force (RADAU5 also scales the error
-///   of this index-2 variable with h, radau5.md §3).
-pub const SCALES: [f64; NY] = scales();
-
-const fn scales() -> [f64; NY] {
-    let mut s = [1.0; NY];
-    let mut i = 0;
-    while i < 6 {
-        s[idx::Q + i] = 1e-5;
-        s[idx::V + i] = 1e-2;
-        i += 1;
-    }
-    s[idx::Q + 6] = 1e-5;
-    s[idx::V + 6] = 1.0;
-    s[idx::PHI1] = 2.5e-4;
-    s[idx::OMEGA1] = 1.0;
-    s[idx::OMEGA1_DOT] = 1e3;
-    s[idx::E_IN] = 1.0;
-    s[idx::E_LOSS] = 1.0;
-    s[idx::E_DAMP] = 1.0;
-    s[idx::E_LOAD] = 1.0;
-    s[idx::LAMBDA] = 1e3;
-    s
-}
+use validity::Monitor;
+pub use validity::{OnViolation, Violation, ViolationKind};
 
 /// Factor on rtol for phi1 (see [`SCALES`]): with 1e-3 the relative part stays below the
 /// absolute one for |phi1| < 250 rad (0.8 s at the default speed) and grows slowly after.
@@ -274,6 +242,11 @@ pub enum SimError {
     },
     /// A serialized state could not be read.
     Decode(DecodeError),
+    /// The requested initial state (`initialization`) could not be set.
+    Init(InitError),
+    /// The run left the model's validity (lift-off, drive reversal) and the policy is
+    /// [`OnViolation::Discard`]: the FMU time is the located instant.
+    Validity(Violation),
 }
 
 impl fmt::Display for SimError {
@@ -293,6 +266,8 @@ impl fmt::Display for SimError {
             ),
             SimError::NonFinite { name, value } => write!(f, "{name} = {value} is not a finite number"),
             SimError::Decode(e) => write!(f, "invalid serialized FMU state: {e}"),
+            SimError::Init(e) => write!(f, "initialization: {e}"),
+            SimError::Validity(v) => write!(f, "{v}"),
         }
     }
 }
@@ -308,38 +283,6 @@ impl From<ParamError> for SimError {
 impl From<DecodeError> for SimError {
     fn from(e: DecodeError) -> Self {
         SimError::Decode(e)
-    }
-}
-
-/// The adapter that presents the rotor DAE to RADAU5 (`M y' = f(t, y)`).
-#[derive(Clone)]
-pub struct RotorProblem {
-    /// The physics.
-    pub model: GearedRotor,
-}
-
-impl Problem<NY> for RotorProblem {
-    fn rhs(
-        &mut self,
-        t: f64,
-        y: &SVector<f64, NY>,
-        f: &mut SVector<f64, NY>,
-    ) -> Result<(), RhsError> {
-        // Allocation (the message) only on the error path.
-        self.model.rhs(t, y, f).map_err(|e| RhsError {
-            message: e.to_string(),
-        })
-    }
-    fn jacobian(
-        &mut self,
-        t: f64,
-        y: &SVector<f64, NY>,
-        jac: &mut SMatrix<f64, NY, NY>,
-    ) -> Result<bool, RhsError> {
-        Ok(self.model.jacobian(t, y, jac))
-    }
-    fn mass(&self) -> Option<SMatrix<f64, NY, NY>> {
-        Some(self.model.mass())
     }
 }
 
@@ -388,6 +331,11 @@ pub struct StepReport {
     /// Whether f changed at the start (new inputs: `Radau5::refresh`; new tunables or after
     /// a failure: `Radau5::restart`).
     pub restarted: bool,
+    /// Episodes outside the model's validity that started in this interval (policy
+    /// [`OnViolation::Warn`]), in the order found.
+    pub violations: [Option<Violation>; validity::MAX_REPORTED],
+    /// Further ones not listed.
+    pub violations_dropped: u32,
 }
 
 /// The model state at initialisation; replayed when a serialized state is loaded, so that
@@ -398,8 +346,11 @@ struct InitRecord {
     params: Params,
     inputs: Inputs,
     t_start: f64,
-    /// The consistent initial state (recomputed by the replay, never serialized).
+    /// The consistent initial state (recomputed by the replay for `Rest`, serialized for
+    /// the others, whose computation is not repeated).
     y0: SVector<f64, NY>,
+    /// How y0 was set.
+    initialization: Initialization,
 }
 
 /// A complete, plain-data snapshot of a [`Simulation`].
@@ -416,6 +367,7 @@ pub struct SimState {
     restart_pending: bool,
     contact_lost: bool,
     last_successful_time: f64,
+    validity: Monitor,
 }
 
 /// The rotor and its stepper.
@@ -437,6 +389,10 @@ pub struct Simulation {
     restart_pending: bool,
     contact_lost: bool,
     last_successful_time: f64,
+    /// Episodes outside the model's validity (`validity`).
+    validity: Monitor,
+    /// What the initialisation did (not part of snapshots).
+    init_report: InitReport,
 }
 
 fn sub_stats(a: &Statistics, b: &Statistics) -> Statistics {
@@ -472,6 +428,30 @@ impl Simulation {
         omega1: f64,
         t_load: f64,
     ) -> Result<Self, SimError> {
+        Self::with_initialization(
+            params,
+            settings,
+            t_start,
+            omega1,
+            t_load,
+            Initialization::Rest,
+        )
+    }
+
+    /// [`Simulation::new`] with the initial state chosen by `initialization` (see
+    /// [`init`]).
+    ///
+    /// # Errors
+    /// As [`Simulation::new`]; [`SimError::Init`] when the requested state cannot be set
+    /// (e.g. no stable periodic orbit).
+    pub fn with_initialization(
+        params: Params,
+        settings: SolverSettings,
+        t_start: f64,
+        omega1: f64,
+        t_load: f64,
+        initialization: Initialization,
+    ) -> Result<Self, SimError> {
         settings.validate()?;
         if !t_start.is_finite() {
             return Err(SimError::NonFinite {
@@ -496,12 +476,20 @@ impl Simulation {
             inputs,
             t_start,
             y0: SVector::zeros(),
+            initialization,
         };
-        let (mut problem, y0) = Self::replay(&init)?;
+        let (mut problem, mut y0) = Self::replay(&init)?;
+        let mut init_report = InitReport::default();
+        if initialization != Initialization::Rest {
+            (y0, init_report) =
+                init::initial_state(&problem.model, t_start, initialization, settings.rtol)
+                    .map_err(SimError::Init)?;
+        }
         init.y0 = y0;
         let solver = Radau5::new(&mut problem, settings.options(), t_start, y0)
             .map_err(|e| solver_err(e, t_start))?;
         let contact_lost = y0[idx::LAMBDA] < 0.0;
+        let validity = Monitor::new(t_start, y0[idx::LAMBDA], y0[idx::OMEGA1]);
         Ok(Simulation {
             problem,
             solver,
@@ -514,7 +502,15 @@ impl Simulation {
             restart_pending: false,
             contact_lost,
             last_successful_time: t_start,
+            validity,
+            init_report,
         })
+    }
+
+    /// What the initialisation did (zero counters for `rest` and `static_equilibrium`,
+    /// and after a state was restored from a serialized snapshot).
+    pub fn init_report(&self) -> &InitReport {
+        &self.init_report
     }
 
     fn replay(init: &InitRecord) -> Result<(RotorProblem, SVector<f64, NY>), SimError> {
@@ -795,6 +791,16 @@ impl Simulation {
         let spacing = self.problem.model.geometry().p_bt / (6.0 * rate);
         let use_events = MESH_EVENT_STOPS && rate > 0.0 && (lookahead || t_end - t > spacing);
         let horizon = if lookahead { NO_STOP } else { t_end };
+        // Validity (validity.rs): conditions of the start state, then the end of a
+        // look-ahead step of the last interval before the next step replaces its polynomial.
+        if self.validity.pending_lift_off || self.validity.pending_reversal {
+            self.start_violations(&mut report)?;
+        }
+        let ts = self.solver.t();
+        if ts > self.validity.t_checked && ts <= t_end {
+            let y = *self.solver.y();
+            self.check_validity(ts, &y, &mut report)?;
+        }
         self.solver.reset_step_count();
         while self.solver.t() < t_end {
             let target = if use_events {
@@ -814,6 +820,7 @@ impl Simulation {
                     // the consistent lambda (see `output_state`), as the outputs report it.
                     let y = *self.solver.y();
                     self.track_contact(tn, &y, &mut report);
+                    self.check_validity(tn, &y, &mut report)?;
                 }
                 // A look-ahead step: its end belongs to a later interval; the state at
                 // t_end is checked below.
@@ -833,6 +840,10 @@ impl Simulation {
         if self.ahead() {
             let y = self.y_comm;
             self.track_contact(t_end, &y, &mut report);
+        }
+        if self.validity.t_checked < t_end {
+            let y = self.y_comm;
+            self.check_validity(t_end, &y, &mut report)?;
         }
         self.last_successful_time = t_end;
         report.stats = sub_stats(self.solver.stats(), &stats0);
@@ -1107,6 +1118,7 @@ impl Simulation {
             restart_pending: self.restart_pending,
             contact_lost: self.contact_lost,
             last_successful_time: self.last_successful_time,
+            validity: self.validity,
         }
     }
 
@@ -1125,6 +1137,7 @@ impl Simulation {
             self.restart_pending = s.restart_pending;
             self.contact_lost = s.contact_lost;
             self.last_successful_time = s.last_successful_time;
+            self.validity = s.validity;
         } else {
             *self = Simulation::from_state(s)?;
         }
@@ -1160,6 +1173,8 @@ impl Simulation {
             restart_pending: s.restart_pending,
             contact_lost: s.contact_lost,
             last_successful_time: s.last_successful_time,
+            validity: s.validity,
+            init_report: InitReport::default(),
         };
         sim.set_comm(s.t_comm);
         Ok(sim)
@@ -1319,6 +1334,14 @@ impl SimState {
         w.f64(self.last_successful_time);
         w.f64(self.t_comm);
         w.bytes(&self.solver.to_bytes());
+        w.i32(self.init.initialization.code());
+        if self.init.initialization != Initialization::Rest {
+            for x in self.init.y0.iter() {
+                w.f64(*x);
+            }
+        }
+        w.u32(self.validity.bits());
+        w.f64(self.validity.t_checked);
     }
 
     /// Reads what [`SimState::write`] wrote; the model is rebuilt by replaying its
@@ -1358,14 +1381,26 @@ impl SimState {
             }
             .into());
         }
+        let initialization =
+            Initialization::from_code(r.i32("initialization")?).ok_or_else(|| DecodeError {
+                message: "unknown initialization".into(),
+            })?;
         let mut init = InitRecord {
             params,
             inputs: inputs0,
             t_start,
             y0: SVector::zeros(),
+            initialization,
         };
-        let (mut problem, y0) = Simulation::replay(&init)?;
+        let (mut problem, mut y0) = Simulation::replay(&init)?;
+        if initialization != Initialization::Rest {
+            for x in y0.iter_mut() {
+                *x = r.finite("initial state")?;
+            }
+        }
         init.y0 = y0;
+        let bits = r.u32("validity flags")?;
+        let validity = Monitor::from_bits(bits, r.finite("validity check time")?);
         problem.model.set_mu(mu)?;
         problem.model.set_d_phi(d_phi)?;
         problem.model.set_inputs(inputs);
@@ -1381,6 +1416,7 @@ impl SimState {
             restart_pending,
             contact_lost,
             last_successful_time,
+            validity,
         })
     }
 }

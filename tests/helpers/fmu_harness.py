@@ -166,7 +166,8 @@ class Instance:
             v = self.pkg.vars[name]
             if v.type == "Real":
                 reals.append((v.valueReference, float(value)))
-            elif v.type == "Integer":
+            elif v.type in ("Integer", "Enumeration"):
+                # FMI 2.0: Enumerations are written with fmi2SetInteger
                 ints.append((v.valueReference, int(value)))
             elif v.type == "Boolean":
                 bools.append((v.valueReference, bool(value)))
@@ -182,7 +183,8 @@ class Instance:
     def get(self, names: Sequence[str]) -> dict[str, float]:
         by_type: dict[str, list[str]] = {"Real": [], "Integer": [], "Boolean": []}
         for n in names:
-            by_type[self.pkg.vars[n].type].append(n)
+            t = self.pkg.vars[n].type
+            by_type["Integer" if t == "Enumeration" else t].append(n)
         out: dict[str, float] = {}
         if by_type["Real"]:
             vals = self.slave.getReal([self.pkg.vr(n) for n in by_type["Real"]])

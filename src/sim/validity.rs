@@ -1,0 +1,379 @@
+//! Where the model leaves its validity during a run, located on the dense output.
+//!
+//! Two conditions are watched at every accepted RADAU5 step end and at every communication
+//! point (docs/validity.md lists them with everything else the code detects):
+//! - lift-off: the normal contact force Fn = lambda (consistent value of the hidden
+//!   constraint, as the outputs report it) becomes negative. The rigid single-flank contact
+//!   then pulls the flanks together; real teeth would separate (or change flanks across the
+//!   backlash), which this model cannot represent;
+//! - drive reversal: the filtered drive speed omega1_filtered becomes <= 0. The model is
+//!   set up for gear 1 driving in the positive sense (the mesh phase advances with phi1,
+//!   mesh events and the loss figures assume it).
+//!
+//! An episode starts when a condition turns true; its instant is located on the
+//! collocation polynomial of the step in which it happened (Illinois regula falsi on the
+//! indicator, to [`LOCATE_TOL`]), and it is reported once: with [`OnViolation::Warn`] in the
+//! [`StepReport`](super::StepReport) (the FMU returns fmi2Warning with a message), with
+//! [`OnViolation::Discard`] as [`SimError::Validity`]: the FMU time
+//! and the last successful time are set to the instant and fmi2DoStep returns fmi2Discard.
+//! An episode ends when the condition turns false again; the next start is a new episode.
+//! A condition that holds at the start state is an episode starting there (reported by the
+//! first doStep). Episodes shorter than one internal step can be missed (the indicator is
+//! sampled at step ends); steps are at most h_max.
+
+// `!(a > b)` on purpose: it also counts NaN as outside, which `a <= b` would let pass.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::{SimError, Simulation};
+use crate::radau5::Radau5;
+use crate::rotor::{idx, NY};
+use nalgebra::SVector;
+use std::fmt;
+
+/// Width of the bracket at which the location stops, in s.
+pub const LOCATE_TOL: f64 = 1e-12;
+
+/// Most violations one communication interval reports (further ones are counted only).
+pub const MAX_REPORTED: usize = 4;
+
+/// What to do when the model leaves its validity (FMU Enumeration `on_lift_off`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum OnViolation {
+    /// 1: complete the step, report fmi2Warning with a message (once per episode).
+    #[default]
+    Warn = 1,
+    /// 2: stop at the located instant, fmi2Discard.
+    Discard = 2,
+}
+
+impl OnViolation {
+    /// From the FMU's Enumeration value (None outside 1..=2).
+    pub fn from_code(code: i32) -> Option<Self> {
+        match code {
+            1 => Some(OnViolation::Warn),
+            2 => Some(OnViolation::Discard),
+            _ => None,
+        }
+    }
+}
+
+/// Which assumption broke.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ViolationKind {
+    /// Fn < 0.
+    LiftOff,
+    /// omega1_filtered <= 0.
+    DriveReversal,
+}
+
+/// The start of an episode outside the model's validity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Violation {
+    /// Which assumption.
+    pub kind: ViolationKind,
+    /// The located instant in s.
+    pub t: f64,
+    /// Time of the state that revealed it (a step end or communication point) in s.
+    pub t_seen: f64,
+    /// Fn in N or omega1_filtered in rad/s there.
+    pub value: f64,
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (t, ts, v) = (self.t, self.t_seen, self.value);
+        match self.kind {
+            ViolationKind::LiftOff => write!(
+                f,
+                "lift-off at t = {t:.12} s: the normal contact force Fn became negative (Fn = {v:.6e} N at t = {ts} s). \
+                 Real teeth would separate here; the rigid single-flank contact of this model instead pulls them \
+                 together, so the results from this instant on are outside the model's validity \
+                 (reported once per episode; on_lift_off = discard stops the step here)"
+            ),
+            ViolationKind::DriveReversal => write!(
+                f,
+                "drive reversal at t = {t:.12} s: the filtered drive speed omega1_filtered became <= 0 \
+                 (omega1_filtered = {v:.6e} rad/s at t = {ts} s). The model assumes gear 1 drives in the positive \
+                 sense, so the results from this instant on are outside the model's validity \
+                 (reported once per episode; on_lift_off = discard stops the step here)"
+            ),
+        }
+    }
+}
+
+/// Episode state, part of a simulation snapshot.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Monitor {
+    /// Fn < 0 at the last check.
+    pub(super) lift_off: bool,
+    /// omega1_filtered <= 0 at the last check.
+    pub(super) reversed: bool,
+    /// Episodes that hold at the start state and are not reported yet.
+    pub(super) pending_lift_off: bool,
+    /// See `pending_lift_off`.
+    pub(super) pending_reversal: bool,
+    /// Time of the last check.
+    pub(super) t_checked: f64,
+    /// The policy (set by the FMU before every doStep).
+    pub(super) policy: OnViolation,
+}
+
+impl Monitor {
+    /// The monitor for a start state (conditions that already hold are pending).
+    pub(super) fn new(t: f64, lambda: f64, omega1: f64) -> Self {
+        let lift_off = lambda < 0.0;
+        let reversed = !(omega1 > 0.0);
+        Monitor {
+            lift_off,
+            reversed,
+            pending_lift_off: lift_off,
+            pending_reversal: reversed,
+            t_checked: t,
+            policy: OnViolation::Warn,
+        }
+    }
+
+    /// Flags as bits (serialization): lift_off, reversed, pending_lift_off,
+    /// pending_reversal, policy == Discard.
+    pub(super) fn bits(&self) -> u32 {
+        u32::from(self.lift_off)
+            | u32::from(self.reversed) << 1
+            | u32::from(self.pending_lift_off) << 2
+            | u32::from(self.pending_reversal) << 3
+            | u32::from(self.policy == OnViolation::Discard) << 4
+    }
+
+    /// Inverse of [`Monitor::bits`].
+    pub(super) fn from_bits(b: u32, t_checked: f64) -> Self {
+        Monitor {
+            lift_off: b & 1 != 0,
+            reversed: b & 2 != 0,
+            pending_lift_off: b & 4 != 0,
+            pending_reversal: b & 8 != 0,
+            t_checked,
+            policy: if b & 16 != 0 {
+                OnViolation::Discard
+            } else {
+                OnViolation::Warn
+            },
+        }
+    }
+}
+
+/// Illinois regula falsi for the first sign change of `g` in `(a, b]` with `g(a) >= 0 >
+/// g(b)` (values `ga`, `gb` given), to a bracket of [`LOCATE_TOL`]; returns the right end
+/// (the first time known to be outside).
+fn locate(mut g: impl FnMut(f64) -> f64, mut a: f64, mut ga: f64, mut b: f64, mut gb: f64) -> f64 {
+    let mut side = 0i32;
+    for _ in 0..200 {
+        if b - a <= LOCATE_TOL {
+            break;
+        }
+        let mut c = b - gb * (b - a) / (gb - ga);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        // Keep the bracket shrinking from both sides: bisect when one end stalls.
+        if side.abs() >= 3 {
+            c = 0.5 * (a + b);
+            side = 0;
+        }
+        let gc = g(c);
+        if gc < 0.0 {
+            b = c;
+            gb = gc;
+            if side < 0 {
+                ga *= 0.5;
+            }
+            side = side.min(0) - 1;
+        } else {
+            a = c;
+            ga = gc;
+            if side > 0 {
+                gb *= 0.5;
+            }
+            side = side.max(0) + 1;
+        }
+    }
+    b
+}
+
+impl Simulation {
+    /// The policy for the following doSteps.
+    pub fn set_on_violation(&mut self, policy: OnViolation) {
+        self.validity.policy = policy;
+    }
+
+    /// Indicator of a condition: negative outside the validity (Fn; omega1_filtered,
+    /// with 0 counted as outside).
+    fn indicator(&self, kind: ViolationKind, t: f64, y: &SVector<f64, NY>) -> f64 {
+        match kind {
+            ViolationKind::LiftOff => self.output_state(t, y)[idx::LAMBDA],
+            ViolationKind::DriveReversal => {
+                let w = y[idx::OMEGA1];
+                if w > 0.0 {
+                    w
+                } else {
+                    // <= 0 is outside: keep 0 on the negative side for the root finder.
+                    w.min(-f64::MIN_POSITIVE)
+                }
+            }
+        }
+    }
+
+    /// Reports the conditions that hold at the start state (first doStep after the start).
+    pub(super) fn start_violations(
+        &mut self,
+        report: &mut super::StepReport,
+    ) -> Result<(), SimError> {
+        let t = self.time();
+        let y = self.y_comm;
+        let mut found = [None, None];
+        if self.validity.pending_reversal {
+            found[0] = Some(Violation {
+                kind: ViolationKind::DriveReversal,
+                t,
+                t_seen: t,
+                value: y[idx::OMEGA1],
+            });
+        }
+        if self.validity.pending_lift_off {
+            found[1] = Some(Violation {
+                kind: ViolationKind::LiftOff,
+                t,
+                t_seen: t,
+                value: self.output_state(t, &y)[idx::LAMBDA],
+            });
+        }
+        self.validity.pending_lift_off = false;
+        self.validity.pending_reversal = false;
+        self.emit(found, report)
+    }
+
+    /// Checks the state `y` at `th` (a step end not after the FMU time being stepped to, or
+    /// that time on the dense output) against the last check; a new episode is located on
+    /// the last step's dense output and reported.
+    pub(super) fn check_validity(
+        &mut self,
+        th: f64,
+        y: &SVector<f64, NY>,
+        report: &mut super::StepReport,
+    ) -> Result<(), SimError> {
+        let was = [self.validity.reversed, self.validity.lift_off];
+        let kinds = [ViolationKind::DriveReversal, ViolationKind::LiftOff];
+        // Cheap decisions first (the stepper's lambda); a change of the lift-off flag is
+        // confirmed with the consistent lambda.
+        let mut now = [!(y[idx::OMEGA1] > 0.0), y[idx::LAMBDA] < 0.0];
+        if now[1] != was[1] {
+            now[1] = self.indicator(ViolationKind::LiftOff, th, y) < 0.0;
+        }
+        let lo = self.validity.t_checked.max(self.solver.t_prev());
+        let mut found = [None, None];
+        for k in 0..2 {
+            if now[k] && !was[k] {
+                let kind = kinds[k];
+                let value = self.indicator(kind, th, y);
+                let t = if lo < th && self.solver.stats().naccpt > 0 {
+                    let solver: &Radau5<NY> = &self.solver;
+                    let mut ys = SVector::<f64, NY>::zeros();
+                    let mut g = |s: f64| {
+                        solver.dense_output(s, &mut ys);
+                        self.indicator(kind, s, &ys)
+                    };
+                    let ga = g(lo);
+                    if ga < 0.0 {
+                        lo
+                    } else {
+                        locate(g, lo, ga, th, value)
+                    }
+                } else {
+                    th
+                };
+                found[k] = Some(Violation {
+                    kind,
+                    t,
+                    t_seen: th,
+                    value,
+                });
+            }
+        }
+        self.validity.reversed = now[0];
+        self.validity.lift_off = now[1];
+        self.validity.t_checked = th;
+        self.emit(found, report)
+    }
+
+    /// Warn: adds the violations to the report. Discard: stops at the earliest one (FMU
+    /// time and last successful time there) with [`SimError::Validity`].
+    fn emit(
+        &mut self,
+        found: [Option<Violation>; 2],
+        report: &mut super::StepReport,
+    ) -> Result<(), SimError> {
+        let mut first: Option<Violation> = None;
+        for v in found.into_iter().flatten() {
+            if first.is_none_or(|f| v.t < f.t) {
+                first = Some(v);
+            }
+            if self.validity.policy == OnViolation::Warn {
+                if let Some(slot) = report.violations.iter_mut().find(|s| s.is_none()) {
+                    *slot = Some(v);
+                } else {
+                    report.violations_dropped += 1;
+                }
+            }
+        }
+        match (self.validity.policy, first) {
+            (OnViolation::Discard, Some(v)) => {
+                if v.t < self.t_comm || v.t > self.solver.t() {
+                    // Cannot happen: located within [t_checked, th]; keep the state then.
+                    self.last_successful_time = self.t_comm;
+                } else {
+                    self.set_comm(v.t);
+                    self.last_successful_time = v.t;
+                }
+                self.validity.t_checked = self.t_comm;
+                Err(SimError::Validity(v))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locate_finds_the_first_sign_change_to_the_tolerance() {
+        // cos(t) - 0.5 falls through 0 at pi/3; a steep and a flat end of the bracket
+        let g = |t: f64| t.cos() - 0.5;
+        let (a, b) = (0.0, 2.0);
+        let t = locate(g, a, g(a), b, g(b));
+        let root = std::f64::consts::FRAC_PI_3;
+        assert!(t >= root && t - root <= LOCATE_TOL, "{t} vs {root}");
+        // a kink (|.|-like, as lambda at a mesh event) and a function stuck at the ends
+        let h = |t: f64| {
+            if t < 0.3 {
+                1.0 - t
+            } else {
+                0.7 - 100.0 * (t - 0.3)
+            }
+        };
+        let t = locate(h, 0.0, h(0.0), 1.0, h(1.0));
+        assert!((t - 0.307).abs() <= 2.0 * LOCATE_TOL, "{t}");
+    }
+
+    #[test]
+    fn monitor_flags_survive_their_encoding() {
+        for b in 0..32u32 {
+            let m = Monitor::from_bits(b, 1.5);
+            assert_eq!(m.bits(), b);
+            assert_eq!(m.t_checked, 1.5);
+        }
+        let m = Monitor::new(0.0, -1.0, 0.0);
+        assert!(m.lift_off && m.reversed && m.pending_lift_off && m.pending_reversal);
+        let m = Monitor::new(0.0, 1.0, f64::NAN);
+        assert!(!m.lift_off && m.reversed, "NaN speed counts as outside");
+    }
+}
