@@ -10,6 +10,7 @@ or moving one variable renumbers the whole section. This tool recomputes it:
   without an entry gets the dependencies given by --depends NAME=INPUT[,INPUT] or none.
 - InitialUnknowns: the outputs with initial approx/calculated and the calculated parameters
   (the rule build.rs checks).
+- The "<!-- N -->" comment line before each ScalarVariable is set to its index.
 
 Usage: python3 scripts/model_structure.py [--deps-from OTHER.xml ...] [--depends mu_eff=T_load]
 The file is rewritten in place; `cargo build` then checks it.
@@ -87,6 +88,12 @@ def main():
         for name, caus, ini in vs
         if (caus == "output" and ini in ("approx", "calculated")) or caus == "calculatedParameter"
     ]
+
+    # The "<!-- N -->" line before each ScalarVariable is its index: renumber those too.
+    counter = iter(range(1, len(vs) + 1))
+    text = re.sub(
+        r"<!-- \d+ -->(\s*<ScalarVariable\b)", lambda m: f"<!-- {next(counter)} -->{m.group(1)}", text
+    )
 
     start = text.index("<ModelStructure>")
     end = text.index("</ModelStructure>")
