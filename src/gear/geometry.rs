@@ -70,7 +70,9 @@ impl fmt::Display for ParamError {
         write!(
             f,
             "parameter {} = {} violates {}",
-            self.name, self.value, self.requirement
+            self.name,
+            crate::fmt_num::Short(self.value),
+            self.requirement
         )
     }
 }

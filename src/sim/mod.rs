@@ -24,7 +24,11 @@
 //!   time" of FMI's `fmi2Discard`).
 
 pub mod codec;
+mod validate;
 
+pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
+
+use crate::fmt_num::Short;
 use crate::gear::{GearData, ParamError};
 use crate::radau5::{
     self, Options, Problem, Radau5, Retake, RhsError, Snapshot, Statistics, Tolerance,
@@ -274,6 +278,16 @@ pub enum SimError {
     },
     /// A serialized state could not be read.
     Decode(DecodeError),
+    /// The doStep took `max_internal_steps` internal steps without reaching its end; the
+    /// state is that of the last of them (`t`).
+    WorkLimit {
+        /// The limit (parameter max_internal_steps).
+        limit: u64,
+        /// Where the doStep stopped (the last successful time).
+        t: f64,
+        /// The end of the communication interval.
+        t_end: f64,
+    },
 }
 
 impl fmt::Display for SimError {
@@ -289,10 +303,18 @@ impl fmt::Display for SimError {
             }
             SimError::CommunicationPoint { expected, got, tolerance } => write!(
                 f,
-                "currentCommunicationPoint = {got} s does not match the FMU time {expected} s (tolerance {tolerance:e} s)"
+                "currentCommunicationPoint = {} s does not match the FMU time {} s (tolerance {tolerance:e} s)",
+                Short(*got),
+                Short(*expected)
             ),
             SimError::NonFinite { name, value } => write!(f, "{name} = {value} is not a finite number"),
             SimError::Decode(e) => write!(f, "invalid serialized FMU state: {e}"),
+            SimError::WorkLimit { limit, t, t_end } => write!(
+                f,
+                "stopped after {limit} internal steps (parameter max_internal_steps) at t = {} s, before the end of the communication step at {} s; state kept there (raise max_internal_steps or take shorter steps)",
+                Short(*t),
+                Short(*t_end)
+            ),
         }
     }
 }
@@ -437,6 +459,8 @@ pub struct Simulation {
     restart_pending: bool,
     contact_lost: bool,
     last_successful_time: f64,
+    /// Most internal steps per doStep (see [`Simulation::set_max_internal_steps`]).
+    max_internal_steps: u64,
 }
 
 fn sub_stats(a: &Statistics, b: &Statistics) -> Statistics {
@@ -514,6 +538,7 @@ impl Simulation {
             restart_pending: false,
             contact_lost,
             last_successful_time: t_start,
+            max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
         })
     }
 
@@ -796,7 +821,20 @@ impl Simulation {
         let use_events = MESH_EVENT_STOPS && rate > 0.0 && (lookahead || t_end - t > spacing);
         let horizon = if lookahead { NO_STOP } else { t_end };
         self.solver.reset_step_count();
+        let mut steps = 0u64;
         while self.solver.t() < t_end {
+            // Bounded work per doStep (stop where it got, a defined state) and progress:
+            // every step advances time by more than the resolution of t (radau5.f's rule)
+            // or ends on t_end, else "step size too small".
+            let t_before = self.solver.t();
+            if steps >= self.max_internal_steps {
+                return Err(self.stop_at_last_step(SimError::WorkLimit {
+                    limit: self.max_internal_steps,
+                    t: t_before,
+                    t_end,
+                }));
+            }
+            steps += 1;
             let target = if use_events {
                 self.next_mesh_event(horizon)
             } else {
@@ -809,6 +847,13 @@ impl Simulation {
                 Ok(tn)
             });
             match r {
+                Ok(tn) if !validate::advanced(t_before, tn, t_end) => {
+                    let e = radau5::Error::StepSizeTooSmall {
+                        t: t_before,
+                        h: tn - t_before,
+                    };
+                    return Err(self.stop_at_last_step(solver_err(e, t_before)));
+                }
                 Ok(tn) if tn <= t_end => {
                     // Cheap test on the stepper's lambda; a change of sign is confirmed with
                     // the consistent lambda (see `output_state`), as the outputs report it.
@@ -1160,6 +1205,7 @@ impl Simulation {
             restart_pending: s.restart_pending,
             contact_lost: s.contact_lost,
             last_successful_time: s.last_successful_time,
+            max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
         };
         sim.set_comm(s.t_comm);
         Ok(sim)
@@ -1352,8 +1398,9 @@ impl SimState {
         if !(t_comm <= solver.t() && (t_comm > solver.t_prev() || t_comm == solver.t())) {
             return Err(DecodeError {
                 message: format!(
-                    "FMU time {t_comm} outside the solver's last step ending at {}",
-                    solver.t()
+                    "FMU time {} outside the solver's last step ending at {}",
+                    Short(t_comm),
+                    Short(solver.t())
                 ),
             }
             .into());
