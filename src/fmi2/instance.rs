@@ -1356,7 +1356,7 @@ impl Instance {
 /// the checksums of the blob catch accidents, these catch a blob that is consistent but
 /// wrong (another build, a tool that edited it and resealed it).
 mod restored {
-    use super::{bounds, variables, FmuState, Phase, Var, RTOL_MAX, RTOL_MIN};
+    use super::{bounds, variables, FmuState, Instance, Phase, Var, RTOL_MAX, RTOL_MIN};
     use crate::fmt_num::Short;
 
     /// What is wrong with `s`, if anything.
@@ -1419,6 +1419,22 @@ mod restored {
                 v(Var::omega1_filter_frequency),
             ));
             pairs.push(("rtol", rtol, s.experiment.tolerance.unwrap_or(v(Var::rtol))));
+        }
+        // The fixed parameters of the store are those the simulation was initialised with
+        // (the tunables compared above may have changed since).
+        let mut probe = Instance::new("validate", None, std::ptr::null_mut(), false);
+        probe.values = s.values;
+        let mut stored = probe
+            .params()
+            .map_err(|e| format!("stored parameters: {e}"))?;
+        let init = sim.init_params();
+        stored.mu = init.mu;
+        stored.d_phi = init.d_phi;
+        if stored != *init {
+            return Err(
+                "the stored parameters differ from those the simulation was initialised with"
+                    .into(),
+            );
         }
         for (name, in_sim, stored) in pairs {
             if in_sim != stored {

@@ -82,7 +82,6 @@ impl<const N: usize> Snapshot<N> {
         require(positive(s.h_lu), "h_lu (must be > 0)")?;
         require(positive(s.hsol), "hsol (must be > 0)")?;
         require(positive(s.hhfac), "hhfac (must be > 0)")?;
-        require(s.h_next <= s.params.h_max, "h_next (must be <= h_max)")?;
         require(
             s.h_acc >= 0.0 && s.err_acc >= 0.0 && s.faccon >= 0.0 && s.theta >= 0.0,
             "controller history (must be >= 0)",
