@@ -123,7 +123,12 @@ fn a_step_that_cannot_advance_time_ends_with_an_error() {
                 sim.do_step(t0, 1e-4).map(|_| ()).map_err(|e| e.to_string())
             },
         );
-        assert!(r.is_err(), "t0 = {t0}, omega1 = {omega1:e}: {r:?}");
+        // The progress guard, not the work bound, ends it.
+        let m = r.expect_err("an error");
+        assert!(
+            m.contains("step size too small"),
+            "t0 = {t0}, omega1 = {omega1:e}: {m}"
+        );
     }
 }
 
@@ -435,4 +440,17 @@ fn resealed_blobs_with_wrong_contents_are_refused_and_leave_the_instance_as_it_w
         assert_eq!(fmi2FreeFMUstate(f.c, &mut st), Fmi2Status::OK);
     }
     assert_eq!(f.step(5e-3, 1e-3), Fmi2Status::OK);
+}
+
+/// The declared default of max_internal_steps is the simulation's default.
+#[test]
+fn the_declared_work_bound_is_the_simulations_default() {
+    let v = by_name("max_internal_steps").unwrap();
+    assert_eq!(v.ty, VarType::Integer);
+    assert_eq!(v.vr, 1020);
+    assert_eq!(
+        v.start,
+        Some(geared_rotor::sim::DEFAULT_MAX_INTERNAL_STEPS as f64)
+    );
+    assert_eq!(v.min, Some(1.0));
 }
