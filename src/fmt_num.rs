@@ -43,7 +43,7 @@ mod tests {
         assert_eq!(s(f64::NAN), "NaN");
         assert_eq!(s(f64::NEG_INFINITY), "-inf");
         // Every finite value reads back exactly and has at most 17 significant digits.
-        let mut x = 1.2345678901234567e-310;
+        let mut x = 1.234_567_890_123_46e-310;
         while x < 1e308 {
             for v in [x, -x, x * 0.1 + 1.0 / 3.0] {
                 let t = s(v);

@@ -1377,7 +1377,7 @@ mod restored {
             }
         }
         if let Some(stop) = s.experiment.stop {
-            if !(stop >= s.experiment.start) {
+            if stop.is_nan() || stop < s.experiment.start {
                 return Err(format!(
                     "stopTime {} before startTime {}",
                     Short(stop),

@@ -101,7 +101,7 @@ impl SimState {
         let tol = CONSTRAINT_FACTOR
             * self.settings.rtol
             * (SCALES[idx::V] + g.rb1 * y[idx::OMEGA1].abs());
-        if !(residual.abs() <= tol) {
+        if residual.is_nan() || residual.abs() > tol {
             return Err(refuse(format!(
                 "the state at t = {} violates the contact constraint: residual {} m/s, tolerance {} m/s",
                 Short(t),

@@ -454,12 +454,14 @@ impl Fuzzer<'_> {
         let tol = comm_tolerance(t, h);
         let stepping = allowed(inst.sh.phase, &[Step]);
         let past_stop = inst.sh.stop.is_some_and(|s| ccp + h > s + tol);
-        let must = !stepping
-            || !(h > 0.0 && h.is_finite())
-            || !ccp.is_finite()
-            || (ccp - t).abs() > tol
-            || past_stop
-            || ccp + h <= t;
+        let acceptable = stepping
+            && h > 0.0
+            && h.is_finite()
+            && ccp.is_finite()
+            && (ccp - t).abs() <= tol
+            && !past_stop
+            && ccp + h > t;
+        let must = !acceptable;
         let what = format!(
             "fmi2DoStep({ccp:e}, {h:e}) at t = {t:e} in {:?}",
             inst.sh.phase
@@ -511,7 +513,7 @@ impl Fuzzer<'_> {
         let must = !allowed(inst.sh.phase, &[Instantiated])
             || tol.is_some_and(|t| !(t > 0.0 && t.is_finite()))
             || !start.is_finite()
-            || stop.is_some_and(|s| !(s >= start));
+            || stop.is_some_and(|s| s.is_nan() || s < start);
         let what = format!("fmi2SetupExperiment({tol:?}, {start:e}, {stop:?})");
         // SAFETY: valid instance.
         let s = self.call(&what, must, || unsafe {
@@ -769,7 +771,7 @@ pub fn reseal(blob: &mut [u8], snapshot_len: usize) {
     }
 }
 
-fn mutate(rng: &mut Rng, blob: &mut Vec<u8>) {
+fn mutate(rng: &mut Rng, blob: &mut [u8]) {
     let n = blob.len();
     match rng.below(5) {
         0 => {
@@ -818,7 +820,7 @@ fn blobs(fz: &mut Fuzzer<'_>, count: u64, snapshot_len: usize) {
     let mut made = 0u64;
     while made < count {
         // A fresh source state every 50 blobs.
-        if made % 50 == 0 {
+        if made.is_multiple_of(50) {
             src = Instance::new(false);
             let mu = 0.1 * fz.rng.f();
             let mvr = VARIABLES.iter().find(|v| v.name == "mu").unwrap().vr;
