@@ -111,8 +111,16 @@ impl std::fmt::Display for Report {
     }
 }
 
-/// Last message per instance (through componentEnvironment).
-struct LastMessage(String);
+/// Last message per instance (through componentEnvironment), and the first message with
+/// a number of more than 17 digits (numbers in messages must be short).
+struct LastMessage(String, Option<String>);
+
+/// Whether `m` holds a number of more than 17 significant digits (runs of digits and
+/// points; leading zeros do not count).
+pub fn has_long_number(m: &str) -> bool {
+    m.split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .any(|d| d.replace('.', "").trim_start_matches('0').len() > 17)
+}
 
 extern "C" fn record(
     env: *mut c_void,
@@ -126,6 +134,9 @@ extern "C" fn record(
     last.0 = unsafe { CStr::from_ptr(msg) }
         .to_string_lossy()
         .into_owned();
+    if last.1.is_none() && has_long_number(&last.0) {
+        last.1 = Some(last.0.clone());
+    }
 }
 
 fn logger() -> Fmi2CallbackLogger {
@@ -166,7 +177,7 @@ struct Instance {
 
 impl Instance {
     fn new(logging: bool) -> Instance {
-        let mut last = Box::new(LastMessage(String::new()));
+        let mut last = Box::new(LastMessage(String::new(), None));
         let cb = Box::new(Fmi2CallbackFunctions {
             logger: logger(),
             allocate_memory: None,
@@ -720,11 +731,14 @@ impl Fuzzer<'_> {
 
     /// One random call sequence on a fresh instance.
     fn sequence(&mut self) {
-        let mut inst = Instance::new(self.rng.chance(0.05));
+        let mut inst = Instance::new(self.rng.chance(0.2));
         self.set_work_bound(&mut inst);
         let n = 3 + self.rng.below(30);
         for _ in 0..n {
             self.one_call(&mut inst);
+            if let Some(m) = inst.last.1.take() {
+                self.violation(format!("a number of more than 17 digits: {m}"));
+            }
         }
         self.rep.sequences += 1;
     }
