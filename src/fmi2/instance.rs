@@ -1361,10 +1361,18 @@ mod restored {
 
     /// What is wrong with `s`, if anything.
     pub fn validate(s: &FmuState) -> Result<(), String> {
-        // Inputs and tunables are checked when set, whatever the phase; the other
-        // parameters by fmi2ExitInitializationMode, so only once a simulation exists.
+        // fmi2GetFMUstate is not allowed in the Fatal state: no state holds it.
+        if s.phase == Phase::Fatal {
+            return Err("phase Fatal (no FMU state can be taken there)".into());
+        }
+        // Inputs and tunables are checked when set, whatever the phase; the solver
+        // parameters by fmi2ExitInitializationMode (rtol only if it is used), so only once
+        // a simulation exists; the other parameters are compared with the simulation's
+        // below.
         for (var, &x) in variables::VARIABLES.iter().zip(s.values.iter()) {
-            if bounds::checked_when_set(var) || s.sim.is_some() {
+            let at_init = bounds::CHECKED_AT_INIT.contains(&var.name)
+                || (var.var == Var::rtol && s.experiment.tolerance.is_none());
+            if bounds::checked_when_set(var) || (at_init && s.sim.is_some()) {
                 bounds::check(var, x).map_err(|e| format!("variable {e}"))?;
             }
         }

@@ -69,11 +69,43 @@ impl<const N: usize> Snapshot<N> {
             Some(m) => require(s.has_mass && s.mass == *m, "mass matrix")?,
             None => require(!s.has_mass, "mass matrix")?,
         }
+        // Every number the next step or the dense output reads must be finite; the
+        // Jacobian, the LU pair and f0 only while they are flagged valid (a failed step
+        // may leave them non-finite, and they are recomputed before use).
+        let vec_ok = |v: &nalgebra::SVector<f64, N>| v.iter().all(|x| x.is_finite());
+        let scalars = [
+            s.t, s.t_prev, s.h_next, s.h_old, s.h_lu, s.hhfac, s.h_acc, s.err_acc, s.faccon,
+            s.theta, s.dynold, s.thqold, s.xsol, s.hsol,
+        ];
+        require(
+            scalars.iter().all(|x| x.is_finite()),
+            "a time, step size or controller value (must be finite)",
+        )?;
+        require(vec_ok(&s.y), "y (must be finite)")?;
+        require(vec_ok(&s.y_prev), "y_prev (must be finite)")?;
+        require(vec_ok(&s.f_prev), "f_prev (must be finite)")?;
+        require(vec_ok(&s.scal), "scal (must be finite)")?;
+        require(s.cont.iter().all(vec_ok), "dense output (must be finite)")?;
+        require(!s.f0_valid || vec_ok(&s.f0), "f0 (must be finite)")?;
+        require(
+            !s.jac_valid || s.jac.iter().all(|x| x.is_finite()),
+            "Jacobian (must be finite)",
+        )?;
         let mut fc = FiniteCheck {
             index: 0,
             bad: None,
         };
         let mut copy = s.clone();
+        if !s.lu_valid {
+            copy.lu1 = super::linalg::RealLu::zeros();
+            copy.lu2 = super::linalg::ComplexLu::zeros();
+        }
+        if !s.jac_valid {
+            copy.jac = SMatrix::zeros();
+        }
+        if !s.f0_valid {
+            copy.f0 = nalgebra::SVector::zeros();
+        }
         visit(&mut fc, &mut copy)?;
         require(fc.bad.is_none(), "a number (must be finite)")?;
         let positive = |x: f64| x > 0.0 && x.is_finite();

@@ -745,7 +745,9 @@ impl Simulation {
     ///
     /// # Errors
     /// [`SimError::StepSize`], [`SimError::CommunicationPoint`] (nothing changed), or
-    /// [`SimError::Solver`]: the state is then that of the last accepted step.
+    /// [`SimError::Solver`] (also "step size too small" when a step cannot advance t) or
+    /// [`SimError::WorkLimit`] (more than `max_internal_steps` steps): the state is then
+    /// that of the last accepted step.
     pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<StepReport, SimError> {
         let t = self.time();
         if !(h > 0.0 && h.is_finite()) {
