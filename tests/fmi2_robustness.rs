@@ -418,7 +418,11 @@ fn resealed_blobs_with_wrong_contents_are_refused_and_leave_the_instance_as_it_w
     // The phase of the state machine (first field of the payload, after magic, version,
     // GUID and payload length): Fatal, which no FMU state can hold.
     let phase_at = 8 + 4 + 8 + geared_rotor::fmi2::variables::GUID.len() + 8;
-    assert_eq!(good[phase_at..phase_at + 4], 2u32.to_le_bytes(), "StepComplete");
+    assert_eq!(
+        good[phase_at..phase_at + 4],
+        2u32.to_le_bytes(),
+        "StepComplete"
+    );
     let mut b = good.clone();
     b[phase_at..phase_at + 4].copy_from_slice(&6u32.to_le_bytes());
     cases.push(("phase Fatal", b, "Fatal"));

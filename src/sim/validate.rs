@@ -73,8 +73,11 @@ impl SimState {
     /// [`SimError::Decode`] saying what is wrong.
     pub fn validate(&self) -> Result<(), SimError> {
         let mass = self.model.mass();
+        // After a failure the next doStep restarts the stepper at its current point
+        // before anything reads its history (no retake: the FMU time is the stepper's).
+        let restart_due = self.restart_pending && self.t_comm == self.solver.t();
         self.solver
-            .check(&self.settings.options(), Some(&mass))
+            .check(&self.settings.options(), Some(&mass), restart_due)
             .map_err(|e| refuse(format!("RADAU5 snapshot: {e}")))?;
         if self.last_successful_time != self.t_comm {
             return Err(refuse(format!(
