@@ -10,7 +10,7 @@ mod driver;
 use geared_rotor::radau5::Snapshot;
 use geared_rotor::rotor::NY;
 
-/// CI size (a few minutes at most on the shared 2-core VM; see docs/fmu.md for figures).
+/// CI size: 4-8 s on the shared 2-core VM (figures in docs/fmu.md "Fuzzer").
 const SEQUENCES: u64 = 20_000;
 const BLOBS: u64 = 5_000;
 
