@@ -10,8 +10,10 @@
 //! - [`periodic`]: the periodic steady state by shooting (Floquet multipliers) and by the
 //!   n-th order harmonic approach (`model.md` §11, the paper's Fig. 3).
 //! - [`fmi2`]: the FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe instance.
+//! - [`fmt_num`]: short numbers for messages (used by every layer).
 
 pub mod fmi2;
+pub mod fmt_num;
 pub mod gear;
 pub mod periodic;
 pub mod radau5;

@@ -3,10 +3,12 @@
 //! the simulation, FMU states. Every error is a typed [`FmuError`] whose FMI status is
 //! decided in exactly one place, [`FmuError::status`].
 
+use super::bounds::{self, OutOfBounds};
 use super::types::{Fmi2CallbackLogger, Fmi2ComponentEnvironment, Fmi2Status};
 use super::variables::{
     self, Causality, Var, VarType, Variability, Variable, LOG_CATEGORIES, N_VARIABLES, VARIABLES,
 };
+use crate::fmt_num::Short;
 use crate::gear::{GearData, ParamError};
 use crate::rotor::{FrictionLaw, Outputs, Params, RotorData};
 use crate::sim::codec::{self, DecodeError, Reader, Writer};
@@ -211,6 +213,22 @@ pub enum FmuError {
         /// FMI function
         func: &'static str,
     },
+    /// A value outside the declared bounds of its variable (nothing was changed).
+    OutOfBounds {
+        /// FMI function
+        func: &'static str,
+        /// the variable, value and bounds
+        error: OutOfBounds,
+    },
+    /// An output that cannot be computed at the current state (not a finite number).
+    OutputNotFinite {
+        /// FMI function
+        func: &'static str,
+        /// the output
+        name: &'static str,
+        /// the FMU time
+        t: f64,
+    },
 }
 
 impl FmuError {
@@ -235,7 +253,7 @@ impl FmuError {
             // successful time (fmu.md: "the assumptions of the model violated").
             FmuError::Sim {
                 func: "fmi2DoStep",
-                error: SimError::Model(_),
+                error: SimError::Model(_) | SimError::WorkLimit { .. },
             } => Fmi2Status::Discard,
             // The run left the model's validity with on_lift_off = discard (sim::validity).
             FmuError::Sim {
@@ -287,6 +305,14 @@ impl fmt::Display for FmuError {
             FmuError::AfterFatal { func } => write!(
                 f,
                 "{func}: the instance is in the Fatal state; only fmi2FreeInstance is allowed"
+            ),
+            FmuError::OutOfBounds { func, error } => {
+                write!(f, "{func}: {error}; nothing was changed")
+            }
+            FmuError::OutputNotFinite { func, name, t } => write!(
+                f,
+                "{func}: output {name} cannot be computed at t = {} s (not a finite number)",
+                Short(*t)
             ),
         }
     }
@@ -648,7 +674,7 @@ impl Instance {
             if !(t > 0.0 && t.is_finite()) {
                 return Err(FmuError::BadArgument {
                     func,
-                    message: format!("tolerance = {t} must be a positive finite number"),
+                    message: format!("tolerance = {} must be a positive finite number", Short(t)),
                 });
             }
             let used = t.clamp(RTOL_MIN, RTOL_MAX);
@@ -667,14 +693,18 @@ impl Instance {
         if !start.is_finite() {
             return Err(FmuError::BadArgument {
                 func,
-                message: format!("startTime = {start} is not finite"),
+                message: format!("startTime = {} is not finite", Short(start)),
             });
         }
         if let Some(s) = stop {
             if s.is_nan() || s < start {
                 return Err(FmuError::BadArgument {
                     func,
-                    message: format!("stopTime = {s} is before startTime = {start}"),
+                    message: format!(
+                        "stopTime = {} is before startTime = {}",
+                        Short(s),
+                        Short(start)
+                    ),
                 });
             }
         }
@@ -791,6 +821,12 @@ impl Instance {
             return Ok(());
         }
         let sim_err = |error| FmuError::Sim { func, error };
+        for name in bounds::CHECKED_AT_INIT {
+            if let Some(var) = variables::by_name(name) {
+                bounds::check(var, self.values[var.var as usize])
+                    .map_err(|error| FmuError::OutOfBounds { func, error })?;
+            }
+        }
         let params = self.params().map_err(|e| sim_err(SimError::Param(e)))?;
         let (settings, _) = self.settings();
         let initialization = self
@@ -857,7 +893,7 @@ impl Instance {
                     s.rtol,
                     crate::sim::SCALES,
                     s.h_max,
-                    self.experiment.start
+                    Short(self.experiment.start)
                 ),
             );
         }
@@ -876,7 +912,11 @@ impl Instance {
                 self.log(
                     Fmi2Status::OK,
                     Category::Solver,
-                    &format!("RADAU5 totals at t = {}: {}", sim.time(), sim.stats()),
+                    &format!(
+                        "RADAU5 totals at t = {}: {}",
+                        Short(sim.time()),
+                        sim.stats()
+                    ),
                 );
             }
         }
@@ -925,6 +965,25 @@ impl Instance {
         })
     }
 
+    /// An output value, or an error if it is not a finite number (never returned with a
+    /// status below fmi2Error).
+    fn finite_output(
+        &self,
+        func: &'static str,
+        var: &'static Variable,
+        x: f64,
+    ) -> Result<f64, FmuError> {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(FmuError::OutputNotFinite {
+                func,
+                name: var.name,
+                t: self.sim.as_ref().map_or(f64::NAN, Simulation::time),
+            })
+        }
+    }
+
     fn value_of(&mut self, func: &'static str, var: &'static Variable) -> Result<f64, FmuError> {
         match var.causality {
             Causality::Parameter | Causality::Input | Causality::Local | Causality::Independent => {
@@ -950,10 +1009,11 @@ impl Instance {
             }
             Causality::Output => {
                 let o = self.current_outputs(func)?;
-                output_value(o, var.var).ok_or_else(|| FmuError::BadArgument {
+                let x = output_value(o, var.var).ok_or_else(|| FmuError::BadArgument {
                     func,
                     message: format!("{} has no value", var.name),
-                })
+                })?;
+                self.finite_output(func, var, x)
             }
         }
     }
@@ -1028,6 +1088,9 @@ impl Instance {
                     func,
                     error: SimError::Param(enum_error(var.var, x)),
                 });
+            }
+            if bounds::checked_when_set(var) {
+                bounds::check(var, x).map_err(|error| FmuError::OutOfBounds { func, error })?;
             }
         }
         for (i, &vr) in vrs.iter().enumerate() {
@@ -1148,10 +1211,10 @@ impl Instance {
         })?;
         let (om, op, delta) = sim.outputs_for_derivative();
         for (o, &vr) in out.iter_mut().zip(vrs) {
-            let var = Self::lookup(func, VarType::Real, vr)?.var;
-            let a = output_value(&om, var).unwrap_or(0.0);
-            let b = output_value(&op, var).unwrap_or(0.0);
-            *o = (b - a) / (2.0 * delta);
+            let var = Self::lookup(func, VarType::Real, vr)?;
+            let a = output_value(&om, var.var).unwrap_or(0.0);
+            let b = output_value(&op, var.var).unwrap_or(0.0);
+            *o = self.finite_output(func, var, (b - a) / (2.0 * delta))?;
         }
         Ok(())
     }
@@ -1179,13 +1242,16 @@ impl Instance {
                 return Err(FmuError::BadArgument {
                     func,
                     message: format!(
-                        "the step [{ccp}, {}] s goes past stopTime = {stop} s of fmi2SetupExperiment",
-                        ccp + h
+                        "the step [{}, {}] s goes past stopTime = {} s of fmi2SetupExperiment",
+                        Short(ccp),
+                        Short(ccp + h),
+                        Short(stop)
                     ),
                 });
             }
         }
         sim.set_on_violation(policy);
+        sim.set_max_internal_steps(self.values[Var::max_internal_steps as usize] as u64);
         let r = sim.do_step(ccp, h);
         self.outputs = None;
         let report = r.map_err(|error| FmuError::Sim { func, error })?;
@@ -1219,10 +1285,11 @@ impl Instance {
                 Fmi2Status::OK,
                 Category::Events,
                 &format!(
-                    "contact_lost changed {} time(s) in [{t0}, {}] s, first at t = {} s; at the end the teeth are {what}",
+                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {} s; at the end the teeth are {what}",
                     report.contact_changes,
-                    ccp + h,
-                    report.first_change_time
+                    Short(t0),
+                    Short(ccp + h),
+                    Short(report.first_change_time)
                 ),
             );
         }
@@ -1231,8 +1298,9 @@ impl Instance {
                 Fmi2Status::OK,
                 Category::Solver,
                 &format!(
-                    "doStep [{t0}, {}] s{}: {}",
-                    ccp + h,
+                    "doStep [{}, {}] s{}: {}",
+                    Short(t0),
+                    Short(ccp + h),
                     if report.restarted { " (restart)" } else { "" },
                     report.stats
                 ),
@@ -1362,7 +1430,7 @@ impl Instance {
             None
         };
         r.finish().map_err(de)?;
-        Ok(FmuState {
+        let state = FmuState {
             phase,
             values,
             input_der,
@@ -1372,6 +1440,113 @@ impl Instance {
                 stop: has_stop.then_some(stop),
             },
             sim,
-        })
+        };
+        restored::validate(&state).map_err(|message| de(DecodeError { message }))?;
+        Ok(state)
+    }
+}
+
+/// Checks of a deserialized [`FmuState`] before it is trusted (docs/fmu.md "Robustness"):
+/// the checksums of the blob catch accidents, these catch a blob that is consistent but
+/// wrong (another build, a tool that edited it and resealed it).
+mod restored {
+    use super::{bounds, variables, FmuState, Instance, Phase, Var, RTOL_MAX, RTOL_MIN};
+    use crate::fmt_num::Short;
+
+    /// What is wrong with `s`, if anything.
+    pub fn validate(s: &FmuState) -> Result<(), String> {
+        // fmi2GetFMUstate is not allowed in the Fatal state: no state holds it.
+        if s.phase == Phase::Fatal {
+            return Err("phase Fatal (no FMU state can be taken there)".into());
+        }
+        // Inputs and tunables are checked when set, whatever the phase; the solver
+        // parameters by fmi2ExitInitializationMode (rtol only if it is used), so only once
+        // a simulation exists; the other parameters are compared with the simulation's
+        // below.
+        for (var, &x) in variables::VARIABLES.iter().zip(s.values.iter()) {
+            let at_init = bounds::CHECKED_AT_INIT.contains(&var.name)
+                || (var.var == Var::rtol && s.experiment.tolerance.is_none());
+            if bounds::checked_when_set(var) || (at_init && s.sim.is_some()) {
+                bounds::check(var, x).map_err(|e| format!("variable {e}"))?;
+            }
+        }
+        if let Some(tol) = s.experiment.tolerance {
+            if !(RTOL_MIN..=RTOL_MAX).contains(&tol) {
+                return Err(format!(
+                    "experiment tolerance {} outside [{RTOL_MIN:e}, {RTOL_MAX:e}]",
+                    Short(tol)
+                ));
+            }
+        }
+        if let Some(stop) = s.experiment.stop {
+            if stop.is_nan() || stop < s.experiment.start {
+                return Err(format!(
+                    "stopTime {} before startTime {}",
+                    Short(stop),
+                    Short(s.experiment.start)
+                ));
+            }
+        }
+        let Some(sim) = &s.sim else {
+            return match s.phase {
+                Phase::StepComplete | Phase::StepFailed => {
+                    Err(format!("phase {:?} without a simulation", s.phase))
+                }
+                _ => Ok(()),
+            };
+        };
+        sim.validate().map_err(|e| match e {
+            crate::sim::SimError::Decode(d) => d.message,
+            e => e.to_string(),
+        })?;
+        // The simulation's own values: within the declared bounds, and the tunables and
+        // solver settings equal to the parameter store.
+        for (name, x) in sim.named_values() {
+            if let Some(var) = variables::by_name(name) {
+                bounds::check(var, x).map_err(|e| format!("simulation value {e}"))?;
+            }
+        }
+        let v = |var: Var| s.values[var as usize];
+        let [(_, _), (_, mu), (_, _), (_, d_phi), (_, f_c), (_, rtol), (_, h_max), ..] =
+            sim.named_values();
+        let mut pairs = vec![
+            ("mu", mu, v(Var::mu)),
+            ("d_phi", d_phi, v(Var::d_phi)),
+            ("h_max", h_max, v(Var::h_max)),
+        ];
+        if !matches!(s.phase, Phase::Instantiated | Phase::InitializationMode) {
+            pairs.push((
+                "omega1_filter_frequency",
+                f_c,
+                v(Var::omega1_filter_frequency),
+            ));
+            pairs.push(("rtol", rtol, s.experiment.tolerance.unwrap_or(v(Var::rtol))));
+        }
+        // The fixed parameters of the store are those the simulation was initialised with
+        // (the tunables compared above may have changed since).
+        let mut probe = Instance::new("validate", None, std::ptr::null_mut(), false);
+        probe.values = s.values;
+        let mut stored = probe
+            .params()
+            .map_err(|e| format!("stored parameters: {e}"))?;
+        let init = sim.init_params();
+        stored.mu = init.mu;
+        stored.d_phi = init.d_phi;
+        if stored != *init {
+            return Err(
+                "the stored parameters differ from those the simulation was initialised with"
+                    .into(),
+            );
+        }
+        for (name, in_sim, stored) in pairs {
+            if in_sim != stored {
+                return Err(format!(
+                    "{name} of the simulation ({}) differs from the stored parameter ({})",
+                    Short(in_sim),
+                    Short(stored)
+                ));
+            }
+        }
+        Ok(())
     }
 }

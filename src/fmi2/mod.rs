@@ -7,6 +7,7 @@
 //! cross `extern "C"`), and map the typed result to an `fmi2Status` via
 //! [`instance::FmuError::status`] (the one place where that mapping lives).
 
+pub mod bounds;
 pub mod instance;
 #[cfg(test)]
 mod model_description_check;

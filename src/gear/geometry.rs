@@ -3,6 +3,7 @@
 
 use super::geometry_repair as repair;
 pub(crate) use super::geometry_repair::Rule;
+use crate::fmt_num::Short;
 use std::f64::consts::PI;
 use std::fmt;
 
@@ -72,7 +73,9 @@ impl fmt::Display for ParamError {
         write!(
             f,
             "parameter {} = {} violates {}",
-            self.name, self.value, self.requirement
+            self.name,
+            Short(self.value),
+            self.requirement
         )
     }
 }
@@ -263,7 +266,11 @@ impl PairGeometry {
                 Rule::TipBelowBase1,
                 "x1",
                 d.x1,
-                format!("tip radius r_a1 = {ra1} > base radius r_b1 = {rb1}"),
+                format!(
+                    "tip radius r_a1 = {} > base radius r_b1 = {}",
+                    Short(ra1),
+                    Short(rb1)
+                ),
             ));
         }
         if !(ra2 > rb2) {
@@ -271,7 +278,11 @@ impl PairGeometry {
                 Rule::TipBelowBase2,
                 "x2",
                 d.x2,
-                format!("tip radius r_a2 = {ra2} > base radius r_b2 = {rb2}"),
+                format!(
+                    "tip radius r_a2 = {} > base radius r_b2 = {}",
+                    Short(ra2),
+                    Short(rb2)
+                ),
             ));
         }
         let r_sum = rb1 + rb2;
@@ -285,7 +296,8 @@ impl PairGeometry {
                         "x1+x2",
                         d.x1 + d.x2,
                         format!(
-                        "inv alpha_wt = inv alpha_t + 2 tan alpha_n (x1 + x2)/(z1 + z2) = {v} > 0"
+                        "inv alpha_wt = inv alpha_t + 2 tan alpha_n (x1 + x2)/(z1 + z2) = {} > 0",
+                        Short(v)
                     ),
                     ))
                 }
@@ -295,7 +307,7 @@ impl PairGeometry {
                 return Err(err(
                     "a_w",
                     d.a_w,
-                    format!("a_w > r_b1 + r_b2 = {r_sum} (or a_w = 0)"),
+                    format!("a_w > r_b1 + r_b2 = {} (or a_w = 0)", Short(r_sum)),
                 ));
             }
             ((r_sum / d.a_w).acos(), d.a_w)
@@ -311,8 +323,9 @@ impl PairGeometry {
                 "x2",
                 d.x2,
                 format!(
-                    "sigma_A = a_w sin alpha_wt - sqrt(r_a2^2 - r_b2^2) = {sigma_a} >= 0 \
-                     (tip of gear 2 must not pass T1: interference)"
+                    "sigma_A = a_w sin alpha_wt - sqrt(r_a2^2 - r_b2^2) = {} >= 0 \
+                     (tip of gear 2 must not pass T1: interference)",
+                    Short(sigma_a)
                 ),
             ));
         }
@@ -322,8 +335,10 @@ impl PairGeometry {
                 "x1",
                 d.x1,
                 format!(
-                    "sigma_E = sqrt(r_a1^2 - r_b1^2) = {sigma_e} <= a_w sin alpha_wt = {loa} \
-                     (tip of gear 1 must not pass T2: interference)"
+                    "sigma_E = sqrt(r_a1^2 - r_b1^2) = {} <= a_w sin alpha_wt = {} \
+                     (tip of gear 1 must not pass T2: interference)",
+                    Short(sigma_e),
+                    Short(loa)
                 ),
             ));
         }
@@ -332,7 +347,11 @@ impl PairGeometry {
                 Rule::TipsApart,
                 "h_aP",
                 d.ha_coef,
-                format!("sigma_A = {sigma_a} < sigma_E = {sigma_e} (the tips must overlap)"),
+                format!(
+                    "sigma_A = {} < sigma_E = {} (the tips must overlap)",
+                    Short(sigma_a),
+                    Short(sigma_e)
+                ),
             ));
         }
         let eps_alpha = (sigma_e - sigma_a) / p_bt;
@@ -352,7 +371,7 @@ impl PairGeometry {
                 value,
                 format!(
                     "eps_alpha + eps_beta = {} > 1 (the contact must never vanish)",
-                    eps_alpha + eps_beta
+                    Short(eps_alpha + eps_beta)
                 ),
             ));
         }
@@ -362,7 +381,7 @@ impl PairGeometry {
                 d.b,
                 format!(
                     "eps_alpha + eps_beta = {} <= 60 (bound of the contact-line loop)",
-                    eps_alpha + eps_beta
+                    Short(eps_alpha + eps_beta)
                 ),
             ));
         }

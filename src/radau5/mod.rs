@@ -49,6 +49,7 @@ pub mod linalg;
 pub mod options;
 mod problem;
 mod snapshot;
+mod snapshot_check;
 mod state;
 mod stats;
 mod stepper;

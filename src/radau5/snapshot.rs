@@ -53,7 +53,7 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 
 /// Sequential writer/reader of the payload; the same field order is used both ways by
 /// [`visit`], so the two can not drift apart.
-trait Io {
+pub(super) trait Io {
     fn f64(&mut self, v: &mut f64) -> Result<(), SnapshotError>;
     fn u64(&mut self, v: &mut u64) -> Result<(), SnapshotError>;
     fn u8(&mut self, v: &mut u8) -> Result<(), SnapshotError>;
@@ -224,7 +224,10 @@ fn visit_stats<I: Io>(io: &mut I, s: &mut Statistics) -> Result<(), SnapshotErro
 }
 
 /// Every field of the state, in layout order.
-fn visit<const N: usize, I: Io>(io: &mut I, s: &mut State<N>) -> Result<(), SnapshotError> {
+pub(super) fn visit<const N: usize, I: Io>(
+    io: &mut I,
+    s: &mut State<N>,
+) -> Result<(), SnapshotError> {
     visit_params(io, &mut s.params)?;
     io.bool(&mut s.has_mass, "has_mass")?;
     io.mat(&mut s.mass)?;

@@ -14,6 +14,7 @@ pub use dae::{GearedRotor, InitialConditions};
 pub use params::{Inputs, Params, RotorData};
 pub use problem::{RotorProblem, SCALES};
 
+use crate::fmt_num::Short;
 use std::fmt;
 
 /// Length of the state vector y.
@@ -104,20 +105,32 @@ impl fmt::Display for ModelError {
         match self {
             ModelError::CentreDistanceTooSmall { t, a, r_sum } => write!(
                 f,
-                "t = {t}: centre distance a = {a} m must exceed r_b1 + r_b2 = {r_sum} m"
+                "t = {}: centre distance a = {} m must exceed r_b1 + r_b2 = {} m",
+                Short(*t),
+                Short(*a),
+                Short(*r_sum)
             ),
             ModelError::NoContact { t } => {
-                write!(f, "t = {t}: no contact line in the active area (l = 0)")
+                write!(
+                    f,
+                    "t = {}: no contact line in the active area (l = 0)",
+                    Short(*t)
+                )
             }
-            ModelError::NonFinite { t, what } => write!(f, "t = {t}: non-finite {what}"),
+            ModelError::NonFinite { t, what } => {
+                write!(f, "t = {}: non-finite {what}", Short(*t))
+            }
             ModelError::InconsistentLambda {
                 t,
                 lambda_pos,
                 lambda_neg,
             } => write!(
                 f,
-                "t = {t}: no unique consistent contact force (lambda >= 0 gives {lambda_pos}, \
-                 lambda < 0 gives {lambda_neg})"
+                "t = {}: no unique consistent contact force (lambda >= 0 gives {}, \
+                 lambda < 0 gives {})",
+                Short(*t),
+                Short(*lambda_pos),
+                Short(*lambda_neg)
             ),
             ModelError::NoStaticEquilibrium { reason } => {
                 write!(f, "no static equilibrium: {reason}")

@@ -26,7 +26,11 @@
 pub mod codec;
 pub mod init;
 pub mod validity;
+mod validate;
 
+pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
+
+use crate::fmt_num::Short;
 use crate::gear::{GearData, ParamError};
 use crate::radau5::{
     self, Options, Problem, Radau5, Retake, RhsError, Snapshot, Statistics, Tolerance,
@@ -247,6 +251,16 @@ pub enum SimError {
     /// The run left the model's validity (lift-off, drive reversal) and the policy is
     /// [`OnViolation::Discard`]: the FMU time is the located instant.
     Validity(Violation),
+    /// The doStep took `max_internal_steps` internal steps without reaching its end; the
+    /// state is that of the last of them (`t`).
+    WorkLimit {
+        /// The limit (parameter max_internal_steps).
+        limit: u64,
+        /// Where the doStep stopped (the last successful time).
+        t: f64,
+        /// The end of the communication interval.
+        t_end: f64,
+    },
 }
 
 impl fmt::Display for SimError {
@@ -262,12 +276,20 @@ impl fmt::Display for SimError {
             }
             SimError::CommunicationPoint { expected, got, tolerance } => write!(
                 f,
-                "currentCommunicationPoint = {got} s does not match the FMU time {expected} s (tolerance {tolerance:e} s)"
+                "currentCommunicationPoint = {} s does not match the FMU time {} s (tolerance {tolerance:e} s)",
+                Short(*got),
+                Short(*expected)
             ),
             SimError::NonFinite { name, value } => write!(f, "{name} = {value} is not a finite number"),
             SimError::Decode(e) => write!(f, "invalid serialized FMU state: {e}"),
             SimError::Init(e) => write!(f, "initialization: {e}"),
             SimError::Validity(v) => write!(f, "{v}"),
+            SimError::WorkLimit { limit, t, t_end } => write!(
+                f,
+                "stopped after {limit} internal steps (parameter max_internal_steps) at t = {} s, before the end of the communication step at {} s; state kept there (raise max_internal_steps or take shorter steps)",
+                Short(*t),
+                Short(*t_end)
+            ),
         }
     }
 }
@@ -393,6 +415,8 @@ pub struct Simulation {
     validity: Monitor,
     /// What the initialisation did (not part of snapshots).
     init_report: InitReport,
+    /// Most internal steps per doStep (see [`Simulation::set_max_internal_steps`]).
+    max_internal_steps: u64,
 }
 
 fn sub_stats(a: &Statistics, b: &Statistics) -> Statistics {
@@ -504,6 +528,7 @@ impl Simulation {
             last_successful_time: t_start,
             validity,
             init_report,
+            max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
         })
     }
 
@@ -716,7 +741,9 @@ impl Simulation {
     ///
     /// # Errors
     /// [`SimError::StepSize`], [`SimError::CommunicationPoint`] (nothing changed), or
-    /// [`SimError::Solver`]: the state is then that of the last accepted step.
+    /// [`SimError::Solver`] (also "step size too small" when a step cannot advance t) or
+    /// [`SimError::WorkLimit`] (more than `max_internal_steps` steps): the state is then
+    /// that of the last accepted step.
     pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<StepReport, SimError> {
         let t = self.time();
         if !(h > 0.0 && h.is_finite()) {
@@ -802,7 +829,20 @@ impl Simulation {
             self.check_validity(ts, &y, &mut report)?;
         }
         self.solver.reset_step_count();
+        let mut steps = 0u64;
         while self.solver.t() < t_end {
+            // Bounded work per doStep (stop where it got, a defined state) and progress:
+            // every step advances time by more than the resolution of t (radau5.f's rule)
+            // or ends on t_end, else "step size too small".
+            let t_before = self.solver.t();
+            if steps >= self.max_internal_steps {
+                return Err(self.stop_at_last_step(SimError::WorkLimit {
+                    limit: self.max_internal_steps,
+                    t: t_before,
+                    t_end,
+                }));
+            }
+            steps += 1;
             let target = if use_events {
                 self.next_mesh_event(horizon)
             } else {
@@ -815,6 +855,13 @@ impl Simulation {
                 Ok(tn)
             });
             match r {
+                Ok(tn) if !validate::advanced(t_before, tn, t_end) => {
+                    let e = radau5::Error::StepSizeTooSmall {
+                        t: t_before,
+                        h: tn - t_before,
+                    };
+                    return Err(self.stop_at_last_step(solver_err(e, t_before)));
+                }
                 Ok(tn) if tn <= t_end => {
                     // Cheap test on the stepper's lambda; a change of sign is confirmed with
                     // the consistent lambda (see `output_state`), as the outputs report it.
@@ -1175,6 +1222,7 @@ impl Simulation {
             last_successful_time: s.last_successful_time,
             validity: s.validity,
             init_report: InitReport::default(),
+            max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
         };
         sim.set_comm(s.t_comm);
         Ok(sim)
@@ -1375,8 +1423,9 @@ impl SimState {
         if !(t_comm <= solver.t() && (t_comm > solver.t_prev() || t_comm == solver.t())) {
             return Err(DecodeError {
                 message: format!(
-                    "FMU time {t_comm} outside the solver's last step ending at {}",
-                    solver.t()
+                    "FMU time {} outside the solver's last step ending at {}",
+                    Short(t_comm),
+                    Short(solver.t())
                 ),
             }
             .into());
