@@ -760,6 +760,7 @@ impl Instance {
             self.v(Var::T_load),
         )
         .map_err(sim_err)?;
+        sim.set_h_fixed(self.v(Var::h_fixed)).map_err(sim_err)?;
         if self.input_der[0] != 0.0 {
             sim.set_input_derivative(Input::Omega1, self.input_der[0])
                 .map_err(sim_err)?;

@@ -24,6 +24,7 @@
 //!   time" of FMI's `fmi2Discard`).
 
 pub mod codec;
+pub mod realtime;
 
 use crate::gear::{GearData, ParamError};
 use crate::radau5::{
@@ -282,7 +283,11 @@ impl fmt::Display for SimError {
             SimError::Param(e) => write!(f, "{e}"),
             SimError::Model(e) => write!(f, "model error: {e}"),
             SimError::Solver { error, last_successful_time } => {
-                write!(f, "RADAU5 cannot continue: {error}; state kept at the last successful time t = {last_successful_time:e} s")
+                write!(f, "RADAU5 cannot continue: {error}; state kept at the last successful time t = {last_successful_time:e} s")?;
+                if matches!(error, radau5::Error::FixedStepNewton { .. }) {
+                    write!(f, " (real-time mode: choose a smaller h_fixed, or a larger rtol, which sets the Newton tolerance)")?;
+                }
+                Ok(())
             }
             SimError::StepSize { h, t } => {
                 write!(f, "communication step size h = {h:e} s is not a positive finite step that advances t = {t:e} s")
@@ -416,6 +421,8 @@ pub struct SimState {
     restart_pending: bool,
     contact_lost: bool,
     last_successful_time: f64,
+    /// Real-time mode (`realtime`): the fixed internal step bound, 0 = adaptive.
+    h_fixed: f64,
 }
 
 /// The rotor and its stepper.
@@ -437,6 +444,8 @@ pub struct Simulation {
     restart_pending: bool,
     contact_lost: bool,
     last_successful_time: f64,
+    /// Real-time mode (`realtime`): the fixed internal step bound, 0 = adaptive.
+    h_fixed: f64,
 }
 
 fn sub_stats(a: &Statistics, b: &Statistics) -> Statistics {
@@ -514,6 +523,7 @@ impl Simulation {
             restart_pending: false,
             contact_lost,
             last_successful_time: t_start,
+            h_fixed: 0.0,
         })
     }
 
@@ -737,6 +747,9 @@ impl Simulation {
         let t_end = ccp + h;
         if t_end <= t {
             return Err(SimError::StepSize { h, t });
+        }
+        if self.h_fixed > 0.0 {
+            return self.do_step_fixed(t, t_end);
         }
         let stats0 = *self.solver.stats();
         let mut report = StepReport {
@@ -1107,6 +1120,7 @@ impl Simulation {
             restart_pending: self.restart_pending,
             contact_lost: self.contact_lost,
             last_successful_time: self.last_successful_time,
+            h_fixed: self.h_fixed,
         }
     }
 
@@ -1125,6 +1139,7 @@ impl Simulation {
             self.restart_pending = s.restart_pending;
             self.contact_lost = s.contact_lost;
             self.last_successful_time = s.last_successful_time;
+            self.h_fixed = s.h_fixed;
         } else {
             *self = Simulation::from_state(s)?;
         }
@@ -1160,6 +1175,7 @@ impl Simulation {
             restart_pending: s.restart_pending,
             contact_lost: s.contact_lost,
             last_successful_time: s.last_successful_time,
+            h_fixed: s.h_fixed,
         };
         sim.set_comm(s.t_comm);
         Ok(sim)
@@ -1318,6 +1334,7 @@ impl SimState {
         w.bool(self.contact_lost);
         w.f64(self.last_successful_time);
         w.f64(self.t_comm);
+        w.f64(self.h_fixed);
         w.bytes(&self.solver.to_bytes());
     }
 
@@ -1344,6 +1361,8 @@ impl SimState {
         let contact_lost = r.bool("contact flag")?;
         let last_successful_time = r.finite("last successful time")?;
         let t_comm = r.finite("FMU time")?;
+        let h_fixed = r.finite("h_fixed")?;
+        realtime::check_h_fixed(h_fixed)?;
         let solver =
             Snapshot::<NY>::from_bytes(r.bytes("solver snapshot")?).map_err(|e| DecodeError {
                 message: format!("RADAU5 snapshot: {e:?}"),
@@ -1381,6 +1400,7 @@ impl SimState {
             restart_pending,
             contact_lost,
             last_successful_time,
+            h_fixed,
         })
     }
 }
