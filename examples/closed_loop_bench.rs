@@ -17,7 +17,9 @@
 //! p99, p99.9 and max (each the median over the repeats; max also the best of them); and
 //! the RADAU5 work per doStep from the instance's counters (internal step attempts,
 //! rejections, Newton iterations = linear solves, Jacobians, LU pairs, f evaluations; mean
-//! and the largest of any doStep). The counters are deterministic: use them to judge a
+//! and the largest of any doStep), and `cpumx`, the largest process CPU time of one call
+//! (best of the runs; unlike the wall time it excludes preemption by other processes).
+//! The counters are deterministic: use them to judge a
 //! change when the machine is loaded.
 //!
 //! Run: `cargo run --release --example closed_loop_bench [repeats] [case-filter]`.
@@ -135,6 +137,9 @@ impl Drop for Fmu {
 struct RunResult {
     cpu_per_10ms: f64,
     wall: Vec<f64>,
+    /// Largest CPU time of one call (process CPU: excludes time the process was preempted
+    /// on a loaded machine, which the wall time includes).
+    cpu_max: f64,
     /// Sums and per-doStep maxima of the counter deltas.
     sum: Statistics,
     max: Statistics,
@@ -180,6 +185,7 @@ fn run(case: Case, h: f64) -> RunResult {
     let mut max = Statistics::default();
     let mut min_nfcn = u64::MAX;
     let mut cpu = 0.0;
+    let mut cpu_max = 0.0f64;
     let one = 1i32;
     for k in 0..n {
         let t = k as f64 * h;
@@ -219,7 +225,9 @@ fn run(case: Case, h: f64) -> RunResult {
             );
         }
         let dt = w0.elapsed().as_secs_f64();
-        cpu += cpu_seconds() - c0;
+        let dc = cpu_seconds() - c0;
+        cpu += dc;
+        cpu_max = cpu_max.max(dc);
         wall.push(dt);
         let d = sub(&f.stats(), &s0);
         acc(&mut sum, &mut max, &d);
@@ -228,6 +236,7 @@ fn run(case: Case, h: f64) -> RunResult {
     RunResult {
         cpu_per_10ms: cpu / (T_END / 0.01),
         wall,
+        cpu_max,
         sum,
         max,
         min_nfcn,
@@ -255,8 +264,8 @@ fn main() {
         std::thread::available_parallelism().map_or(0, |n| n.get())
     );
     println!(
-        "{:<22} {:>7} {:>9} {:>6} {:>6} | {:>7} {:>7} {:>7} {:>7} {:>7} | {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>5}",
-        "case", "H [s]", "CPU/10ms", "x RT", "ratio", "med us", "p99", "p99.9", "max", "bestmx",
+        "{:<22} {:>7} {:>9} {:>6} {:>6} | {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} | {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>5}",
+        "case", "H [s]", "CPU/10ms", "x RT", "ratio", "med us", "p99", "p99.9", "max", "bestmx", "cpumx",
         "steps", "rej", "newt", "jac", "lu", "nfcn", "mxfcn"
     );
     for h in [1e-4, 1e-5] {
@@ -319,7 +328,7 @@ fn main() {
             let n = r.n as f64;
             let per = |x: u64| x as f64 / n;
             println!(
-                "{:<22} {:>7.0e} {:>8.2}ms {:>6.1} {:>6.2} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} | {:>6.3} {:>6.3} {:>6.2} {:>6.3} {:>6.3} {:>6.2} {:>5}",
+                "{:<22} {:>7.0e} {:>8.2}ms {:>6.1} {:>6.2} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} | {:>6.3} {:>6.3} {:>6.2} {:>6.3} {:>6.3} {:>6.2} {:>5}",
                 case.name,
                 h,
                 cpu * 1e3,
@@ -330,6 +339,7 @@ fn main() {
                 median(q[2].clone()),
                 median(q[3].clone()),
                 best_max,
+                runs.iter().map(|r| r.cpu_max * 1e6).fold(f64::INFINITY, f64::min),
                 per(r.sum.nstep),
                 per(r.sum.nrejct),
                 per(r.sum.nsol),

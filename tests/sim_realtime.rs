@@ -149,7 +149,9 @@ fn non_convergence_is_an_error_never_a_silent_result() {
 }
 
 /// The internal step lands on every communication point exactly and divides it: with
-/// H = 3e-5 s and h_fixed = 2e-5 s, 2 steps of 1.5e-5 s per doStep (no sliver).
+/// H = 3e-5 s and h_fixed = 2e-5 s, 2 steps of 1.5e-5 s per doStep (no sliver); with
+/// H = h_fixed = 1e-5 s from t = 100 s, where `t_end - t` differs from H by ulps of t,
+/// one step per doStep.
 #[test]
 fn internal_step_divides_the_communication_step() {
     let mut s = sim(1e-6, 2e-5);
@@ -158,5 +160,23 @@ fn internal_step_divides_the_communication_step() {
         let r = s.do_step(t, 3e-5).unwrap();
         assert_eq!(r.stats.naccpt, 2);
         assert_eq!(s.stepper_time(), t + 3e-5);
+    }
+    let t0 = 100.0;
+    let mut s = Simulation::new(
+        Params::default(),
+        SolverSettings {
+            rtol: 1e-6,
+            h_max: 1e-4,
+        },
+        t0,
+        W0,
+        0.0,
+    )
+    .unwrap();
+    s.set_h_fixed(1e-5).unwrap();
+    for k in 0..200 {
+        let t = t0 + k as f64 * 1e-5;
+        let r = s.do_step(t, 1e-5).unwrap();
+        assert_eq!(r.stats.naccpt, 1, "doStep at {t}");
     }
 }

@@ -28,16 +28,11 @@ use nalgebra::SVector;
 pub const NEWTON_ITERATIONS: u32 = 3;
 
 /// Number of internal steps of a doStep of length `span`: the smallest n with
-/// `span / n <= h_fixed` (up to 1e-12 relative, so that `H = k h_fixed` computed in
-/// floating point gives exactly k).
-pub fn internal_steps(span: f64, h_fixed: f64) -> u64 {
-    let q = span / h_fixed;
-    let n = q.ceil().max(1.0);
-    if n > 1.0 && q <= (n - 1.0) * (1.0 + 1e-12) {
-        (n - 1.0) as u64
-    } else {
-        n as u64
-    }
+/// `span - slack <= n h_fixed`. `slack` absorbs the master's rounding of the
+/// communication points (`t_end - t` differs from its H by up to a few ulps of t, which
+/// at t = 100 s is 1e-9 of H = 1e-5 s), so that `H = k h_fixed` gives exactly k steps.
+pub fn internal_steps(span: f64, h_fixed: f64, slack: f64) -> u64 {
+    ((span - slack) / h_fixed).ceil().max(1.0) as u64
 }
 
 impl Simulation {
@@ -88,7 +83,8 @@ impl Simulation {
         }
         self.inputs_ref = *self.problem.model.inputs();
         self.der_set = [false; 2];
-        let n = internal_steps(t_end - t, self.h_fixed);
+        let slack = super::comm_tolerance(t_end, t_end - t);
+        let n = internal_steps(t_end - t, self.h_fixed, slack);
         let h = (t_end - t) / n as f64;
         if let Err(e) = self.solver.fixed_prepare(&mut self.problem, h) {
             return fail(self, solver_err(e, t));
@@ -138,13 +134,21 @@ mod tests {
 
     #[test]
     fn internal_step_is_the_largest_divisor_not_above_h_fixed() {
-        assert_eq!(internal_steps(1e-4, 2.5e-5), 4);
-        assert_eq!(internal_steps(1e-4, 3e-5), 4);
-        assert_eq!(internal_steps(1e-4, 1e-4), 1);
-        assert_eq!(internal_steps(1e-5, 2.5e-5), 1);
-        assert_eq!(internal_steps(1e-3, 1e-5), 100);
-        // 0.3 / 0.1 is 2.9999999999999996 in floating point.
-        assert_eq!(internal_steps(0.3, 0.1), 3);
-        assert_eq!(internal_steps(0.1 + 0.2, 0.1), 3);
+        let n =
+            |span: f64, hf: f64| internal_steps(span, hf, super::super::comm_tolerance(1.0, span));
+        assert_eq!(n(1e-4, 2.5e-5), 4);
+        assert_eq!(n(1e-4, 3e-5), 4);
+        assert_eq!(n(1e-4, 1e-4), 1);
+        assert_eq!(n(1e-5, 2.5e-5), 1);
+        assert_eq!(n(1e-3, 1e-5), 100);
+        assert_eq!(n(1.1e-4, 1e-4), 2);
+        // 0.1 + 0.2 = 0.30000000000000004 in floating point; the master meant 0.3.
+        assert_eq!(n(0.1 + 0.2, 0.1), 3);
+        // A communication step at t = 100 s: t_end - t is H up to ulps of t.
+        let (t, h) = (100.0, 1e-5);
+        assert_eq!(
+            internal_steps((t + h) - t, h, super::super::comm_tolerance(t + h, h)),
+            1
+        );
     }
 }
