@@ -23,6 +23,7 @@
 //! - on a solver failure the state stays at the last accepted step (the "last successful
 //!   time" of FMI's `fmi2Discard`).
 
+mod closed_loop;
 pub mod codec;
 pub mod realtime;
 
@@ -806,17 +807,24 @@ impl Simulation {
         // 5.5 ms per 10 ms without, 8-11 ms with).
         let rate = self.problem.model.geometry().rb1 * self.solver.y()[idx::OMEGA1];
         let spacing = self.problem.model.geometry().p_bt / (6.0 * rate);
-        let use_events = MESH_EVENT_STOPS && rate > 0.0 && (lookahead || t_end - t > spacing);
+        let use_events = MESH_EVENT_STOPS
+            && rate > 0.0
+            && (lookahead || t_end - t > closed_loop::EVENT_STOPS_MIN_SPAN * spacing);
         let horizon = if lookahead { NO_STOP } else { t_end };
         self.solver.reset_step_count();
         while self.solver.t() < t_end {
-            let target = if use_events {
-                self.next_mesh_event(horizon)
-            } else {
+            let stop = if lookahead {
                 horizon
+            } else {
+                self.equal_stop(t_end)
+            };
+            let target = if use_events {
+                self.next_mesh_event(stop)
+            } else {
+                stop
             };
             let r = self.solver.step(&mut self.problem, target).and_then(|tn| {
-                if use_events && tn == target && target < horizon {
+                if use_events && tn == target && target < stop {
                     self.f_after_event()?;
                 }
                 Ok(tn)
