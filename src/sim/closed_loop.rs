@@ -18,6 +18,12 @@
 //! | Jacobians | 1.17 | 0.46 | 0.64 | 0.16 |
 //! | LU pairs | 5.04 | 3.68 | 2.73 | 1.94 |
 //!
+//! Not kept: parts up to 1.1, 1.2, 1.3, 1.5 times the proposal (fewer, longer steps):
+//! rejections 0.011 -> 0.28-0.35 and LU pairs 1.94 -> 2.6-3.2 per doStep, f 20.4 -> 20.9-21.2.
+//! What remains against constant inputs (11.6 f, 2.2 steps per doStep with look-ahead) is
+//! the step count: 3.6 internal steps per doStep of about the same cost each, as every
+//! doStep must end on its communication point (the input changes there).
+//!
 //! At H = 1e-5 s (one internal step per doStep either way) event stops cost more than they
 //! save (f 5.65 -> 5.85, LU pairs 0.035 -> 0.22 per doStep), hence the threshold; the equal
 //! steps change nothing there (5.63 f, 0.022 LU pairs).
