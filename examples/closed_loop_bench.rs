@@ -292,7 +292,11 @@ fn main() {
             },
         ];
         if has_rt {
-            for (name, hf) in [("rt 2.5e-5 omega1", 2.5e-5), ("rt 1e-5 omega1", 1e-5)] {
+            for (name, hf) in [
+                ("rt 2.5e-5 omega1", 2.5e-5),
+                ("rt 5e-5 omega1", 5e-5),
+                ("rt 1e-4 omega1", 1e-4),
+            ] {
                 cases.push(Case {
                     name,
                     drive: Drive::Omega1,
