@@ -8,7 +8,8 @@ use std::fmt;
 pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// Layout version; bump when the payload layout changes.
 /// 2: the FMU time (look-ahead) after the last successful time; RADAU5 snapshot v2.
-pub const VERSION: u32 = 2;
+/// 3: `h_fixed` (real-time mode) after the FMU time.
+pub const VERSION: u32 = 3;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]
