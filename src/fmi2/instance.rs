@@ -797,6 +797,17 @@ impl Instance {
                     self.experiment.start
                 ),
             );
+            let h_fixed = self.v(Var::h_fixed);
+            if h_fixed > 0.0 {
+                self.log(
+                    Fmi2Status::OK,
+                    Category::Solver,
+                    &format!(
+                        "real-time mode: h_fixed = {h_fixed:e} s: per doStep of H, ceil(H/h_fixed) equal steps of {} Newton iterations, one Jacobian and LU pair, no error control",
+                        crate::sim::realtime::NEWTON_ITERATIONS
+                    ),
+                );
+            }
         }
         self.phase = Phase::StepComplete;
         Ok(())
