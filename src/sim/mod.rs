@@ -21,7 +21,8 @@
 //!   ([`SCALES`]), output derivatives from the dense output;
 //! - a plain-data snapshot ([`SimState`]) and its versioned serialisation ([`codec`]);
 //! - on a solver failure the state stays at the last accepted step (the "last successful
-//!   time" of FMI's `fmi2Discard`).
+//!   time" of FMI's `fmi2Discard`);
+//! - a real-time mode with equal, bounded work per doStep ([`realtime`], `h_fixed > 0`).
 
 mod closed_loop;
 pub mod codec;
@@ -804,7 +805,8 @@ impl Simulation {
         // Mesh-event stops pay when the steps are not already ended by communication points
         // closer than the mean spacing of the events (6 per base pitch): there, extra stops
         // would only force new LU decompositions (measured at H = 1e-5 s without look-ahead:
-        // 5.5 ms per 10 ms without, 8-11 ms with).
+        // 5.5 ms per 10 ms without, 8-11 ms with); without look-ahead they are used from
+        // half the spacing up (H = 1e-4 s: see `closed_loop`).
         let rate = self.problem.model.geometry().rb1 * self.solver.y()[idx::OMEGA1];
         let spacing = self.problem.model.geometry().p_bt / (6.0 * rate);
         let use_events = MESH_EVENT_STOPS
