@@ -14,6 +14,11 @@
 //! | per doStep | before | events | equal steps | both |
 //! |---|---|---|---|---|
 //! | f evaluations | 28.3 | 20.8 | 25.6 | 20.4 |
+//!
+//! The parts are those of the interval up to the next mesh event (or the point), so that
+//! no sliver step is left before an event: f per doStep 20.41 -> 20.14 (with input
+//! derivatives 16.10 -> 15.05) against cutting [t, t_end] and stopping at events in
+//! between.
 //! | rejections | 1.49 | 0.43 | 0.85 | 0.011 |
 //! | Jacobians | 1.17 | 0.46 | 0.64 | 0.16 |
 //! | LU pairs | 5.04 | 3.68 | 2.73 | 1.94 |
@@ -36,18 +41,24 @@ use super::Simulation;
 pub(super) const EVENT_STOPS_MIN_SPAN: f64 = 0.5;
 
 impl Simulation {
-    /// Next stop time of a doStep that ends exactly on `t_end` (no look-ahead): the
-    /// remaining interval cut into the fewest equal parts not longer than the stepper's
+    /// Next stop time of a doStep that ends exactly on `t_end` (no look-ahead), and
+    /// whether it is a mesh event: the interval up to the next event (with `use_events`)
+    /// or to `t_end` cut into the fewest equal parts not longer than the stepper's
     /// proposal (1e-9 relative slack, so that a proposal equal to the part gives no extra
     /// step).
-    pub(super) fn equal_stop(&self, t_end: f64) -> f64 {
+    pub(super) fn closed_loop_stop(&self, t_end: f64, use_events: bool) -> (f64, bool) {
+        let stop = if use_events {
+            self.next_mesh_event(t_end)
+        } else {
+            t_end
+        };
         let t = self.solver.t();
-        let rem = t_end - t;
+        let rem = stop - t;
         let n = (rem / self.solver.h() * (1.0 - 1e-9)).ceil();
         if n <= 1.0 {
-            t_end
+            (stop, stop < t_end)
         } else {
-            t + rem / n
+            (t + rem / n, false)
         }
     }
 }

@@ -815,18 +815,18 @@ impl Simulation {
         let horizon = if lookahead { NO_STOP } else { t_end };
         self.solver.reset_step_count();
         while self.solver.t() < t_end {
-            let stop = if lookahead {
-                horizon
+            let (target, at_event) = if lookahead {
+                let target = if use_events {
+                    self.next_mesh_event(horizon)
+                } else {
+                    horizon
+                };
+                (target, target < horizon)
             } else {
-                self.equal_stop(t_end)
-            };
-            let target = if use_events {
-                self.next_mesh_event(stop)
-            } else {
-                stop
+                self.closed_loop_stop(t_end, use_events)
             };
             let r = self.solver.step(&mut self.problem, target).and_then(|tn| {
-                if use_events && tn == target && target < stop {
+                if use_events && at_event && tn == target {
                     self.f_after_event()?;
                 }
                 Ok(tn)
