@@ -34,8 +34,8 @@ const NEGLIGIBLE_INCREMENT: f64 = 1e-3;
 
 impl<const N: usize> Radau5<N> {
     /// Renews the Jacobian at the current point and factorises the LU pair for the step
-    /// size `h` (1 Jacobian, 1 LU pair; plus 1 f evaluation when the Jacobian is
-    /// approximated by finite differences, which need f at the point).
+    /// size `h` (1 Jacobian, 1 LU pair; plus 1 f evaluation when the problem has no
+    /// analytic Jacobian and the finite differences need f at the point).
     ///
     /// # Errors
     /// [`Error::InvalidOption`] for a non-positive h; [`Error::Rhs`] / [`Error::NonFinite`]
@@ -49,24 +49,31 @@ impl<const N: usize> Radau5<N> {
             });
         }
         let t = self.st.t;
-        if !self.st.params.analytic_jac && !self.st.f0_valid {
-            let mut f0 = SVector::zeros();
-            let r = problem.rhs(t, &self.st.y, &mut f0);
-            self.st.stats.nfcn += 1;
-            if let Err(e) = r {
-                return Err(Error::Rhs {
-                    t,
-                    h,
-                    message: e.message,
-                });
+        let rhs_err = |e: super::RhsError| Error::Rhs {
+            t,
+            h,
+            message: e.message,
+        };
+        let s = &mut self.st;
+        let analytic =
+            s.params.analytic_jac && problem.jacobian(t, &s.y, &mut s.jac).map_err(rhs_err)?;
+        if analytic {
+            s.stats.njac += 1;
+        } else {
+            // Finite differences need f at the point (not kept after a fixed step).
+            if !s.f0_valid {
+                let mut f0 = SVector::zeros();
+                let r = problem.rhs(t, &s.y, &mut f0);
+                s.stats.nfcn += 1;
+                r.map_err(rhs_err)?;
+                if f0.iter().any(|v| !v.is_finite()) {
+                    return Err(Error::NonFinite { t, h });
+                }
+                s.f0 = f0;
+                s.f0_valid = true;
             }
-            if f0.iter().any(|v| !v.is_finite()) {
-                return Err(Error::NonFinite { t, h });
-            }
-            self.st.f0 = f0;
-            self.st.f0_valid = true;
+            self.compute_jacobian(problem, h)?;
         }
-        self.compute_jacobian(problem, h)?;
         self.st.jac_valid = true;
         if self.decompose(h).is_err() {
             return Err(Error::SingularMatrix { t, h });
