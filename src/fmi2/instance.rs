@@ -841,6 +841,7 @@ impl Instance {
             initialization,
         )
         .map_err(sim_err)?;
+        sim.set_h_fixed(self.v(Var::h_fixed)).map_err(sim_err)?;
         if self.input_der[0] != 0.0 {
             sim.set_input_derivative(Input::Omega1, self.input_der[0])
                 .map_err(sim_err)?;
@@ -896,6 +897,17 @@ impl Instance {
                     Short(self.experiment.start)
                 ),
             );
+            let h_fixed = self.v(Var::h_fixed);
+            if h_fixed > 0.0 {
+                self.log(
+                    Fmi2Status::OK,
+                    Category::Solver,
+                    &format!(
+                        "real-time mode: h_fixed = {h_fixed:e} s: per doStep of H, ceil(H/h_fixed) equal steps of {} Newton iterations, one Jacobian and LU pair, no error control",
+                        crate::sim::realtime::NEWTON_ITERATIONS
+                    ),
+                );
+            }
         }
         self.phase = Phase::StepComplete;
         Ok(())

@@ -53,6 +53,16 @@ pub enum Error {
     Rhs { t: f64, h: f64, message: String },
     /// `t_stop` lies behind the current time (only forward integration is supported).
     StopTimeBehind { t: f64, t_stop: f64 },
+    /// A fixed step ([`super::Radau5::fixed_step`]) whose simplified Newton iteration had
+    /// not converged after its fixed number of iterations: `contraction` is the last ratio
+    /// of increments, `increment` the last increment in units of the Newton tolerance.
+    FixedStepNewton {
+        t: f64,
+        h: f64,
+        iterations: u32,
+        contraction: f64,
+        increment: f64,
+    },
 }
 
 impl fmt::Display for Error {
@@ -88,6 +98,16 @@ impl fmt::Display for Error {
             Error::StopTimeBehind { t, t_stop } => {
                 write!(f, "stop time {t_stop:e} lies behind the current time {t:e}")
             }
+            Error::FixedStepNewton {
+                t,
+                h,
+                iterations,
+                contraction,
+                increment,
+            } => write!(
+                f,
+                "the Newton iteration of the fixed step h = {h:e} s at t = {t:e} s has not converged in {iterations} iterations (contraction {contraction:.3}, last increment {increment:.3e} times the Newton tolerance); a smaller fixed step converges faster"
+            ),
         }
     }
 }

@@ -43,8 +43,13 @@
 //! - [`Radau5::retake`] redoes the last accepted step so that it ends on a given earlier
 //!   time (a stop time learned only after the step was taken); it keeps `y` and `f` at the
 //!   start of the last step for that.
+//! - `fixed_step`: steps of a caller-given constant size with a fixed number of simplified
+//!   Newton iterations and a caller-scheduled Jacobian/LU ([`Radau5::fixed_prepare`],
+//!   [`Radau5::fixed_step`]): bounded work per step, no error control, non-convergence is
+//!   [`Error::FixedStepNewton`].
 
 mod error;
+mod fixed_step;
 pub mod linalg;
 pub mod options;
 mod problem;
@@ -58,6 +63,7 @@ pub mod tableau;
 pub mod test_problems;
 
 pub use error::{Error, RhsError, SnapshotError};
+pub use fixed_step::MIN_FIXED_ITERATIONS;
 pub use options::{Controller, JacobianMode, NewtonStart, Options, Tolerance};
 pub use problem::Problem;
 pub use snapshot::Snapshot;

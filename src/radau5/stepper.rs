@@ -37,7 +37,7 @@ pub enum Retake {
 #[derive(Debug, Clone)]
 pub struct Radau5<const N: usize> {
     pub(crate) st: State<N>,
-    tab: Tableau,
+    pub(crate) tab: Tableau,
     /// Nonzero columns of each row of M (derived from `st.mass`, not part of the state).
     pub(crate) pattern: MassPattern<N>,
     /// Split into factorised and quadrature components (from `Options::quadrature`; a
@@ -198,7 +198,13 @@ impl<const N: usize> Blocks<N> {
     /// Solves `E1 x = b` in place (`E1 = fac1 M - J` factorised by [`Radau5::decompose`]).
     /// Inlined so that the default (full) path is the plain `SOL` call it always was.
     #[inline(always)]
-    fn solve1(&self, lu: &RealLu<N>, jac: &SMatrix<f64, N, N>, fac1: f64, b: &mut SVector<f64, N>) {
+    pub(super) fn solve1(
+        &self,
+        lu: &RealLu<N>,
+        jac: &SMatrix<f64, N, N>,
+        fac1: f64,
+        b: &mut SVector<f64, N>,
+    ) {
         if self.full() {
             lu.solve(b);
         } else {
@@ -252,7 +258,7 @@ impl<const N: usize> Blocks<N> {
 
     /// Solves `E2 (xr + i xi) = br + i bi` in place (`E2 = (alphn + i betan) M - J`).
     #[inline(always)]
-    fn solve2(
+    pub(super) fn solve2(
         &self,
         lu: &ComplexLu<N>,
         jac: &SMatrix<f64, N, N>,
@@ -357,7 +363,7 @@ impl<const N: usize> MassPattern<N> {
     }
 
     #[inline]
-    fn row(&self, i: usize) -> &[usize] {
+    pub(super) fn row(&self, i: usize) -> &[usize] {
         &self.cols[i][..self.len[i]]
     }
 }
@@ -754,7 +760,11 @@ impl<const N: usize> Radau5<N> {
     }
 
     /// Forward-difference or analytic Jacobian at the current point (label 10).
-    fn compute_jacobian<P: Problem<N>>(&mut self, problem: &mut P, h: f64) -> Result<(), Error> {
+    pub(super) fn compute_jacobian<P: Problem<N>>(
+        &mut self,
+        problem: &mut P,
+        h: f64,
+    ) -> Result<(), Error> {
         let s = &mut self.st;
         s.stats.njac += 1;
         let t = s.t;
@@ -790,7 +800,7 @@ impl<const N: usize> Radau5<N> {
 
     /// Builds and factorises `E1 = (gamma/h) M - J` and `E2 = ((alpha + i beta)/h) M - J`
     /// (`DECOMR`, `DECOMC`, full matrices).
-    fn decompose(&mut self, h: f64) -> Result<(), ()> {
+    pub(super) fn decompose(&mut self, h: f64) -> Result<(), ()> {
         let s = &mut self.st;
         let fac1 = self.tab.gamma / h;
         let alphn = self.tab.alpha / h;

@@ -21,12 +21,15 @@
 //!   ([`SCALES`]), output derivatives from the dense output;
 //! - a plain-data snapshot ([`SimState`]) and its versioned serialisation ([`codec`]);
 //! - on a solver failure the state stays at the last accepted step (the "last successful
-//!   time" of FMI's `fmi2Discard`).
+//!   time" of FMI's `fmi2Discard`);
+//! - a real-time mode with equal, bounded work per doStep ([`realtime`], `h_fixed > 0`).
 
+mod closed_loop;
 pub mod codec;
 pub mod init;
 pub mod validity;
 mod validate;
+pub mod realtime;
 
 pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
 
@@ -269,7 +272,11 @@ impl fmt::Display for SimError {
             SimError::Param(e) => write!(f, "{e}"),
             SimError::Model(e) => write!(f, "model error: {e}"),
             SimError::Solver { error, last_successful_time } => {
-                write!(f, "RADAU5 cannot continue: {error}; state kept at the last successful time t = {last_successful_time:e} s")
+                write!(f, "RADAU5 cannot continue: {error}; state kept at the last successful time t = {last_successful_time:e} s")?;
+                if matches!(error, radau5::Error::FixedStepNewton { .. }) {
+                    write!(f, " (real-time mode: choose a smaller h_fixed, or a larger rtol, which sets the Newton tolerance)")?;
+                }
+                Ok(())
             }
             SimError::StepSize { h, t } => {
                 write!(f, "communication step size h = {h:e} s is not a positive finite step that advances t = {t:e} s")
@@ -390,6 +397,8 @@ pub struct SimState {
     contact_lost: bool,
     last_successful_time: f64,
     validity: Monitor,
+    /// Real-time mode (`realtime`): the fixed internal step bound, 0 = adaptive.
+    h_fixed: f64,
 }
 
 /// The rotor and its stepper.
@@ -417,6 +426,8 @@ pub struct Simulation {
     init_report: InitReport,
     /// Most internal steps per doStep (see [`Simulation::set_max_internal_steps`]).
     max_internal_steps: u64,
+    /// Real-time mode (`realtime`): the fixed internal step bound, 0 = adaptive.
+    h_fixed: f64,
 }
 
 fn sub_stats(a: &Statistics, b: &Statistics) -> Statistics {
@@ -529,6 +540,7 @@ impl Simulation {
             validity,
             init_report,
             max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
+            h_fixed: 0.0,
         })
     }
 
@@ -761,6 +773,9 @@ impl Simulation {
         if t_end <= t {
             return Err(SimError::StepSize { h, t });
         }
+        if self.h_fixed > 0.0 {
+            return self.do_step_fixed(t, t_end);
+        }
         let stats0 = *self.solver.stats();
         let mut report = StepReport {
             first_change_time: f64::NAN,
@@ -813,10 +828,13 @@ impl Simulation {
         // Mesh-event stops pay when the steps are not already ended by communication points
         // closer than the mean spacing of the events (6 per base pitch): there, extra stops
         // would only force new LU decompositions (measured at H = 1e-5 s without look-ahead:
-        // 5.5 ms per 10 ms without, 8-11 ms with).
+        // 5.5 ms per 10 ms without, 8-11 ms with); without look-ahead they are used from
+        // half the spacing up (H = 1e-4 s: see `closed_loop`).
         let rate = self.problem.model.geometry().rb1 * self.solver.y()[idx::OMEGA1];
         let spacing = self.problem.model.geometry().p_bt / (6.0 * rate);
-        let use_events = MESH_EVENT_STOPS && rate > 0.0 && (lookahead || t_end - t > spacing);
+        let use_events = MESH_EVENT_STOPS
+            && rate > 0.0
+            && (lookahead || t_end - t > closed_loop::EVENT_STOPS_MIN_SPAN * spacing);
         let horizon = if lookahead { NO_STOP } else { t_end };
         // Validity (validity.rs): conditions of the start state, then the end of a
         // look-ahead step of the last interval before the next step replaces its polynomial.
@@ -843,13 +861,18 @@ impl Simulation {
                 }));
             }
             steps += 1;
-            let target = if use_events {
-                self.next_mesh_event(horizon)
+            let (target, at_event) = if lookahead {
+                let target = if use_events {
+                    self.next_mesh_event(horizon)
+                } else {
+                    horizon
+                };
+                (target, target < horizon)
             } else {
-                horizon
+                self.closed_loop_stop(t_end, use_events)
             };
             let r = self.solver.step(&mut self.problem, target).and_then(|tn| {
-                if use_events && tn == target && target < horizon {
+                if use_events && at_event && tn == target {
                     self.f_after_event()?;
                 }
                 Ok(tn)
@@ -1166,6 +1189,7 @@ impl Simulation {
             contact_lost: self.contact_lost,
             last_successful_time: self.last_successful_time,
             validity: self.validity,
+            h_fixed: self.h_fixed,
         }
     }
 
@@ -1185,6 +1209,7 @@ impl Simulation {
             self.contact_lost = s.contact_lost;
             self.last_successful_time = s.last_successful_time;
             self.validity = s.validity;
+            self.h_fixed = s.h_fixed;
         } else {
             *self = Simulation::from_state(s)?;
         }
@@ -1223,6 +1248,7 @@ impl Simulation {
             validity: s.validity,
             init_report: InitReport::default(),
             max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
+            h_fixed: s.h_fixed,
         };
         sim.set_comm(s.t_comm);
         Ok(sim)
@@ -1381,6 +1407,7 @@ impl SimState {
         w.bool(self.contact_lost);
         w.f64(self.last_successful_time);
         w.f64(self.t_comm);
+        w.f64(self.h_fixed);
         w.bytes(&self.solver.to_bytes());
         w.i32(self.init.initialization.code());
         if self.init.initialization != Initialization::Rest {
@@ -1415,6 +1442,8 @@ impl SimState {
         let contact_lost = r.bool("contact flag")?;
         let last_successful_time = r.finite("last successful time")?;
         let t_comm = r.finite("FMU time")?;
+        let h_fixed = r.finite("h_fixed")?;
+        realtime::check_h_fixed(h_fixed)?;
         let solver =
             Snapshot::<NY>::from_bytes(r.bytes("solver snapshot")?).map_err(|e| DecodeError {
                 message: format!("RADAU5 snapshot: {e:?}"),
@@ -1466,6 +1495,7 @@ impl SimState {
             contact_lost,
             last_successful_time,
             validity,
+            h_fixed,
         })
     }
 }

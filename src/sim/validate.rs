@@ -79,6 +79,8 @@ impl SimState {
         self.solver
             .check(&self.settings.options(), Some(&mass), restart_due)
             .map_err(|e| refuse(format!("RADAU5 snapshot: {e}")))?;
+        super::realtime::check_h_fixed(self.h_fixed)
+            .map_err(|e| refuse(format!("real-time mode: {e}")))?;
         if self.last_successful_time != self.t_comm {
             return Err(refuse(format!(
                 "last successful time {} differs from the FMU time {}",

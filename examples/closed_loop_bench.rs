@@ -1,0 +1,369 @@
+//! Closed-loop co-simulation through the C ABI (issue 11): a master that sets the inputs
+//! at every communication point, calls fmi2DoStep and reads every Real output.
+//!
+//! Cases, each over 1 s of simulated time from the consistent start (default pair):
+//! - `const`: omega1 = 314.159 rad/s, T_load = 0 held (set once, as a master re-sending the
+//!   same values would: re-setting the same value costs nothing);
+//! - `omega1`: omega1 = 314.159 (1 + 0.01 sin(2 pi 50 t)) set at every point (held);
+//! - `omega1+der`: the same with fmi2SetRealInputDerivatives (the exact slope at t);
+//! - `omega1+T_load`: omega1 as above and T_load = sin(2 pi 50 t) N m, both set at every
+//!   point (held);
+//! - `rt h=...`: the real-time mode (`h_fixed`, value reference 130) with omega1 changing,
+//!   when the FMU has that parameter.
+//!
+//! Printed per case and H (1e-4 s, 1e-5 s): CPU per simulated 10 ms (whole second, median
+//! of the repeats) and the multiple of real time, the ratio to `const`; the wall time of one
+//! call (SetReal [+ SetRealInputDerivatives] + DoStep + GetReal of all Real outputs): median,
+//! p99, p99.9 and max (each the median over the repeats; max also the best of them); and
+//! the RADAU5 work per doStep from the instance's counters (internal step attempts,
+//! rejections, Newton iterations = linear solves, Jacobians, LU pairs, f evaluations; mean
+//! and the largest of any doStep), and with a third argument `cpu`: `cpumx`, the largest
+//! process CPU time of one call (best of the runs; unlike the wall time it excludes
+//! preemption by other processes; the clock reads, ~1 us each, then inflate the CPU column).
+//! The counters are deterministic: use them to judge a
+//! change when the machine is loaded.
+//!
+//! Run: `cargo run --release --example closed_loop_bench [repeats] [case-filter] [cpu]`.
+
+use geared_rotor::fmi2::instance::Instance;
+use geared_rotor::fmi2::types::*;
+use geared_rotor::fmi2::variables::{Causality, VarType, GUID, VARIABLES};
+use geared_rotor::fmi2::*;
+use geared_rotor::radau5::Statistics;
+use std::f64::consts::PI;
+use std::ffi::CString;
+use std::ptr;
+use std::time::Instant;
+
+fn cpu_seconds() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: valid out pointer.
+    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+fn vr_of(name: &str) -> Option<u32> {
+    VARIABLES
+        .iter()
+        .find(|v| v.name == name && v.ty == VarType::Real)
+        .map(|v| v.vr)
+}
+
+const W0: f64 = 314.159;
+const T_END: f64 = 1.0;
+
+#[derive(Clone, Copy, PartialEq)]
+enum Drive {
+    Constant,
+    Omega1,
+    Omega1Der,
+    Omega1TLoad,
+}
+
+#[derive(Clone, Copy)]
+struct Case {
+    name: &'static str,
+    drive: Drive,
+    h_fixed: f64,
+}
+
+fn omega1(t: f64) -> (f64, f64) {
+    let a = 2.0 * PI * 50.0;
+    (
+        W0 * (1.0 + 0.01 * (a * t).sin()),
+        W0 * 0.01 * a * (a * t).cos(),
+    )
+}
+
+fn t_load(t: f64) -> f64 {
+    (2.0 * PI * 50.0 * t).sin()
+}
+
+struct Fmu {
+    c: Fmi2Component,
+    outs: Vec<u32>,
+    vals: Vec<f64>,
+}
+
+impl Fmu {
+    fn new(h_fixed: f64) -> Fmu {
+        let outs: Vec<u32> = VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Output && v.ty == VarType::Real)
+            .map(|v| v.vr)
+            .collect();
+        let vals = vec![0.0; outs.len()];
+        let name = CString::new("closed_loop").unwrap();
+        let guid = CString::new(GUID).unwrap();
+        let cb = Fmi2CallbackFunctions {
+            logger: None,
+            allocate_memory: None,
+            free_memory: None,
+            step_finished: None,
+            component_environment: ptr::null_mut(),
+        };
+        // SAFETY: valid strings and callbacks; the instance is freed in Drop.
+        unsafe {
+            let c = fmi2Instantiate(name.as_ptr(), 1, guid.as_ptr(), ptr::null(), &cb, 0, 0);
+            assert!(!c.is_null());
+            assert_eq!(fmi2SetupExperiment(c, 1, 1e-6, 0.0, 0, 0.0), Fmi2Status::OK);
+            assert_eq!(fmi2EnterInitializationMode(c), Fmi2Status::OK);
+            if h_fixed > 0.0 {
+                let vr = vr_of("h_fixed").expect("h_fixed");
+                assert_eq!(fmi2SetReal(c, &vr, 1, &h_fixed), Fmi2Status::OK);
+            }
+            assert_eq!(fmi2ExitInitializationMode(c), Fmi2Status::OK);
+            Fmu { c, outs, vals }
+        }
+    }
+
+    /// RADAU5 counters of the instance (read outside the timed calls).
+    fn stats(&self) -> Statistics {
+        // SAFETY: fmi2Instantiate returns a boxed Instance; no call is running.
+        let inst = unsafe { &*(self.c as *const Instance) };
+        *inst.simulation().expect("initialised").stats()
+    }
+}
+
+impl Drop for Fmu {
+    fn drop(&mut self) {
+        // SAFETY: instance created by fmi2Instantiate, freed once.
+        unsafe { fmi2FreeInstance(self.c) };
+    }
+}
+
+struct RunResult {
+    cpu_per_10ms: f64,
+    wall: Vec<f64>,
+    /// Largest CPU time of one call (process CPU: excludes time the process was preempted
+    /// on a loaded machine, which the wall time includes).
+    cpu_max: f64,
+    /// Sums and per-doStep maxima of the counter deltas.
+    sum: Statistics,
+    max: Statistics,
+    min_nfcn: u64,
+    n: usize,
+}
+
+fn sub(a: &Statistics, b: &Statistics) -> Statistics {
+    Statistics {
+        nfcn: a.nfcn - b.nfcn,
+        njac: a.njac - b.njac,
+        nstep: a.nstep - b.nstep,
+        naccpt: a.naccpt - b.naccpt,
+        nrejct: a.nrejct - b.nrejct,
+        ndec: a.ndec - b.ndec,
+        nsol: a.nsol - b.nsol,
+    }
+}
+
+fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
+    s.nfcn += d.nfcn;
+    s.njac += d.njac;
+    s.nstep += d.nstep;
+    s.naccpt += d.naccpt;
+    s.nrejct += d.nrejct;
+    s.ndec += d.ndec;
+    s.nsol += d.nsol;
+    m.nfcn = m.nfcn.max(d.nfcn);
+    m.njac = m.njac.max(d.njac);
+    m.nstep = m.nstep.max(d.nstep);
+    m.naccpt = m.naccpt.max(d.naccpt);
+    m.nrejct = m.nrejct.max(d.nrejct);
+    m.ndec = m.ndec.max(d.ndec);
+    m.nsol = m.nsol.max(d.nsol);
+}
+
+fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
+    let mut f = Fmu::new(case.h_fixed);
+    let n = (T_END / h).round() as usize;
+    let (vr_w, vr_tl) = (vr_of("omega1").unwrap(), vr_of("T_load").unwrap());
+    let mut wall = Vec::with_capacity(n);
+    let mut sum = Statistics::default();
+    let mut max = Statistics::default();
+    let mut min_nfcn = u64::MAX;
+    let mut cpu = 0.0;
+    let mut cpu_max = 0.0f64;
+    let one = 1i32;
+    let cpu0 = cpu_seconds();
+    for k in 0..n {
+        let t = k as f64 * h;
+        let (w, wd) = omega1(t);
+        let tl = t_load(t);
+        let s0 = f.stats();
+        let c0 = if per_call_cpu { cpu_seconds() } else { 0.0 };
+        let w0 = Instant::now();
+        // SAFETY: live instance, buffers of the right length.
+        unsafe {
+            match case.drive {
+                Drive::Constant => {}
+                Drive::Omega1 => {
+                    assert_eq!(fmi2SetReal(f.c, &vr_w, 1, &w), Fmi2Status::OK);
+                }
+                Drive::Omega1Der => {
+                    assert_eq!(fmi2SetReal(f.c, &vr_w, 1, &w), Fmi2Status::OK);
+                    assert_eq!(
+                        fmi2SetRealInputDerivatives(f.c, &vr_w, 1, &one, &wd),
+                        Fmi2Status::OK
+                    );
+                }
+                Drive::Omega1TLoad => {
+                    let vrs = [vr_w, vr_tl];
+                    let v = [w, tl];
+                    assert_eq!(
+                        fmi2SetReal(f.c, vrs.as_ptr(), 2, v.as_ptr()),
+                        Fmi2Status::OK
+                    );
+                }
+            }
+            let st = fmi2DoStep(f.c, t, h, 1);
+            assert_eq!(st, Fmi2Status::OK, "{} H = {h:e} at t = {t}", case.name);
+            assert_eq!(
+                fmi2GetReal(f.c, f.outs.as_ptr(), f.outs.len(), f.vals.as_mut_ptr()),
+                Fmi2Status::OK
+            );
+        }
+        let dt = w0.elapsed().as_secs_f64();
+        if per_call_cpu {
+            cpu_max = cpu_max.max(cpu_seconds() - c0);
+        }
+        wall.push(dt);
+        let d = sub(&f.stats(), &s0);
+        acc(&mut sum, &mut max, &d);
+        min_nfcn = min_nfcn.min(d.nfcn);
+    }
+    // The whole loop (incl. reading the counters, ~1 ns per call): the process CPU clock
+    // is a system call (~1 us), too slow to read around every call.
+    cpu += cpu_seconds() - cpu0;
+    RunResult {
+        cpu_per_10ms: cpu / (T_END / 0.01),
+        wall,
+        cpu_max,
+        sum,
+        max,
+        min_nfcn,
+        n,
+    }
+}
+
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    let i = ((sorted.len() as f64 - 1.0) * q).round() as usize;
+    sorted[i]
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let repeats: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(3);
+    let filter = args.get(2).cloned().unwrap_or_default();
+    let per_call_cpu = args.get(3).is_some_and(|a| a == "cpu");
+    let has_rt = vr_of("h_fixed").is_some();
+    println!(
+        "closed-loop benchmark: default pair, rtol 1e-6, {T_END} s simulated per run, {repeats} repeats (medians; max also best of runs), {} online CPUs",
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    );
+    println!(
+        "{:<22} {:>7} {:>9} {:>6} {:>6} | {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} | {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>5}",
+        "case", "H [s]", "CPU/10ms", "x RT", "ratio", "med us", "p99", "p99.9", "max", "bestmx", "cpumx",
+        "steps", "rej", "newt", "jac", "lu", "nfcn", "mxfcn"
+    );
+    for h in [1e-4, 1e-5] {
+        let mut cases = vec![
+            Case {
+                name: "const",
+                drive: Drive::Constant,
+                h_fixed: 0.0,
+            },
+            Case {
+                name: "omega1",
+                drive: Drive::Omega1,
+                h_fixed: 0.0,
+            },
+            Case {
+                name: "omega1+der",
+                drive: Drive::Omega1Der,
+                h_fixed: 0.0,
+            },
+            Case {
+                name: "omega1+T_load",
+                drive: Drive::Omega1TLoad,
+                h_fixed: 0.0,
+            },
+        ];
+        if has_rt {
+            for (name, hf) in [
+                ("rt 2.5e-5 omega1", 2.5e-5),
+                ("rt 5e-5 omega1", 5e-5),
+                ("rt 1e-4 omega1", 1e-4),
+            ] {
+                cases.push(Case {
+                    name,
+                    drive: Drive::Omega1,
+                    h_fixed: hf,
+                });
+            }
+            cases.push(Case {
+                name: "rt 2.5e-5 const",
+                drive: Drive::Constant,
+                h_fixed: 2.5e-5,
+            });
+        }
+        let mut cpu_const = f64::NAN;
+        for case in cases {
+            if !case.name.contains(filter.as_str()) {
+                continue;
+            }
+            let runs: Vec<RunResult> = (0..repeats).map(|_| run(case, h, per_call_cpu)).collect();
+            let cpu = median(runs.iter().map(|r| r.cpu_per_10ms).collect());
+            if case.name == "const" {
+                cpu_const = cpu;
+            }
+            let mut q = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
+            for r in &runs {
+                let mut w = r.wall.clone();
+                w.sort_by(f64::total_cmp);
+                for (k, p) in [0.5, 0.99, 0.999, 1.0].into_iter().enumerate() {
+                    q[k].push(quantile(&w, p) * 1e6);
+                }
+            }
+            let best_max = q[3].iter().cloned().fold(f64::INFINITY, f64::min);
+            let r = &runs[0];
+            let n = r.n as f64;
+            let per = |x: u64| x as f64 / n;
+            println!(
+                "{:<22} {:>7.0e} {:>8.2}ms {:>6.1} {:>6.2} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} | {:>6.3} {:>6.3} {:>6.2} {:>6.3} {:>6.3} {:>6.2} {:>5}",
+                case.name,
+                h,
+                cpu * 1e3,
+                0.01 / cpu,
+                cpu / cpu_const,
+                median(q[0].clone()),
+                median(q[1].clone()),
+                median(q[2].clone()),
+                median(q[3].clone()),
+                best_max,
+                runs.iter().map(|r| r.cpu_max * 1e6).fold(f64::INFINITY, f64::min),
+                per(r.sum.nstep),
+                per(r.sum.nrejct),
+                per(r.sum.nsol),
+                per(r.sum.njac),
+                per(r.sum.ndec),
+                per(r.sum.nfcn),
+                r.max.nfcn,
+            );
+            if case.h_fixed > 0.0 {
+                println!(
+                    "{:<22} per doStep: nfcn {}..{}, LU pairs max {}, Jacobians max {}, rejections max {}",
+                    "", r.min_nfcn, r.max.nfcn, r.max.ndec, r.max.njac, r.max.nrejct
+                );
+            }
+        }
+    }
+}
