@@ -8,7 +8,8 @@ use std::fmt;
 pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// Layout version; bump when the payload layout changes.
 /// 2: the FMU time (look-ahead) after the last successful time; RADAU5 snapshot v2.
-pub const VERSION: u32 = 2;
+/// 3: friction laws 2-4 (law code 1..=4 and their eight parameters after the filter).
+pub const VERSION: u32 = 3;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]

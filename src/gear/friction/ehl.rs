@@ -1,0 +1,270 @@
+//! Law 4: a local EHL coefficient of friction mu(s) along every contact line.
+//!
+//! The regression formula of Xu, Kahraman, Anderson & Maddock (2007), "Prediction of
+//! mechanical efficiency of parallel-axis gear pairs", ASME J. Mech. Des. 129(1) 58-68,
+//! eqs. (4)-(5), fitted to thermal non-Newtonian EHL predictions for a 75W90 gear oil
+//! (coefficients b1..b9 of their table 2, also in Xu's 2005 Ohio State dissertation):
+//!
+//! `mu = exp(f) P_h^b2 |SR|^b3 V_e^b6 nu0^b7 R^b8`,
+//! `f = b1 + b4 |SR| P_h log10(nu0) + b5 exp(-|SR| P_h log10(nu0)) + b9 exp(S)`,
+//!
+//! in the paper's units: P_h [GPa] the maximum Hertzian pressure, SR = u_s / V_e [1] the
+//! slide-to-roll ratio, V_e [m/s] the entraining (mean rolling) speed, nu0 [mPa s = cP] the
+//! dynamic viscosity at the inlet temperature and ambient pressure, R [m] the equivalent
+//! radius of curvature in the normal section, S [um] the composite roughness.
+//!
+//! Along a line (`model.md` §4) at `sigma(s) = sigma0 - sin beta_b s` from T1 on the line
+//! of action (length L_t = a sin alpha): rho1 = sigma, rho2 = L_t - sigma,
+//! `R = rho1 rho2 / (L_t cos beta_b)`, `V_e = (omega1 rho1 + omega2 rho2)/2`, the sliding
+//! speed `u_s = |v_T| = r(s)` (as in the integrals of `model.md` §4), and
+//! `P_h = sqrt(q E' / (2 pi R))` for the line load q = |lambda| / l [N/m],
+//! `E' = 2 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)`.
+//!
+//! The friction force per unit length is `mu(s) q v_T / |v_T|`; since mu ~ |SR|^1.036,
+//! the force goes to zero continuously at the pitch line (no sign jump). Range of the fit
+//! (Xu 2005): P_h 0.5..2.5 GPa, SR up to ~1, V_e a few to ~30 m/s, typical automotive
+//! gear oils; elsewhere it is an extrapolation (V_e is floored at [`V_E_MIN`]).
+//!
+//! Quadrature: each segment is split where x(s) changes sign; on each side the distance
+//! d from that root is substituted as `d = d_far t^3` (the integrand, ~d^1.036 smooth(d)
+//! near the root, becomes smooth in t) and integrated with 10-point Gauss-Legendre; a
+//! side whose root lies farther away than its length gets plain Gauss-Legendre. Spur
+//! lines (sigma constant along the line) need one evaluation of mu. No allocation.
+
+use super::{LineIntegrals, GL_W, GL_X};
+
+/// Xu et al. (2007) coefficients b1..b9 for the 75W90 oil (their table 2).
+pub const XU_B: [f64; 9] = [
+    -8.916465, 1.03303, 1.036077, -0.354068, 2.812084, -0.100601, 0.752755, -0.390958, 0.620305,
+];
+
+/// Floor of the entraining speed V_e [m/s] (guard at standstill, outside the fit).
+pub const V_E_MIN: f64 = 1e-3;
+
+/// Xu et al. (2007) eqs. (4)-(5) in the paper's units (P_h GPa, SR 1, V_e m/s, nu0 mPa s,
+/// R m, S um), evaluated literally (the reference for tests; the line integration uses
+/// an equivalent logarithmic form).
+pub fn mu_xu(p_h: f64, sr: f64, v_e: f64, nu0: f64, r: f64, s: f64) -> f64 {
+    let b = XU_B;
+    let z = sr.abs() * p_h * nu0.log10();
+    let f = b[0] + b[3] * z + b[4] * (-z).exp() + b[8] * s.exp();
+    f.exp() * p_h.powf(b[1]) * sr.abs().powf(b[2]) * v_e.powf(b[5]) * nu0.powf(b[6]) * r.powf(b[7])
+}
+
+/// The lubricant and the flank materials of law 4 (SI units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lubricant {
+    /// Dynamic viscosity of the oil at the inlet temperature [Pa s].
+    pub eta_oil: f64,
+    /// Composite roughness [m] (Xu's S).
+    pub roughness: f64,
+    /// Reduced modulus E' = 2 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2) [Pa].
+    pub e_reduced: f64,
+}
+
+impl Lubricant {
+    /// E' from Young's moduli [Pa] and Poisson's ratios of both gears.
+    pub fn reduced_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
+        2.0 / ((1.0 - nu1 * nu1) / e1 + (1.0 - nu2 * nu2) / e2)
+    }
+}
+
+/// Law 4 for one evaluation: the line load and the speeds fixed, constants folded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EhlLine {
+    /// Constant part of ln mu: b1 + b9 e^S + b7 ln nu0 + b2 ln(P_h sqrt(R)).
+    ln_k: f64,
+    /// P_h sqrt(R) [GPa m^0.5] = sqrt(q E' / (2 pi)) 1e-9.
+    ph_c: f64,
+    /// log10(nu0 [mPa s]).
+    log10_nu: f64,
+    omega1: f64,
+    omega2: f64,
+    /// L_t = a sin alpha [m].
+    lt: f64,
+    /// 1 / (L_t cos beta_b).
+    inv_lt_cb: f64,
+    sin_beta_b: f64,
+}
+
+impl EhlLine {
+    /// Law 4 at line load `q = |lambda| / l` [N/m], speeds omega1, omega2 [rad/s], on the
+    /// line of action of length `lt` [m] with base helix angle beta_b.
+    pub fn new(
+        lub: &Lubricant,
+        q: f64,
+        omega1: f64,
+        omega2: f64,
+        lt: f64,
+        cos_beta_b: f64,
+        sin_beta_b: f64,
+    ) -> Self {
+        let b = XU_B;
+        let nu = lub.eta_oil * 1e3;
+        let ph_c = (q.abs() * lub.e_reduced / (2.0 * std::f64::consts::PI)).sqrt() * 1e-9;
+        let ln_k = b[0] + b[8] * (lub.roughness * 1e6).exp() + b[6] * nu.ln() + b[1] * ph_c.ln();
+        EhlLine {
+            ln_k,
+            ph_c,
+            log10_nu: nu.log10(),
+            omega1,
+            omega2,
+            lt,
+            inv_lt_cb: 1.0 / (lt * cos_beta_b),
+            sin_beta_b,
+        }
+    }
+
+    /// Local mu at sigma on the line of action for the sliding speed r = |v_T| > 0, with
+    /// everything that varies along a line: R(sigma), V_e(sigma), SR = r / V_e.
+    #[inline]
+    pub fn mu_at(&self, sigma: f64, r: f64) -> f64 {
+        let b = XU_B;
+        let (rho1, rho2) = (sigma, self.lt - sigma);
+        if !(rho1 > 0.0 && rho2 > 0.0 && r > 0.0) {
+            return 0.0;
+        }
+        let rr = rho1 * rho2 * self.inv_lt_cb;
+        let ve = (0.5 * (self.omega1 * rho1 + self.omega2 * rho2))
+            .abs()
+            .max(V_E_MIN);
+        let z = r / ve * (self.ph_c / rr.sqrt()) * self.log10_nu;
+        let ln_mu = self.ln_k
+            + b[3] * z
+            + b[4] * (-z).exp()
+            + (b[7] - 0.5 * b[1]) * rr.ln()
+            + (b[5] - b[2]) * ve.ln()
+            + b[2] * r.ln();
+        ln_mu.exp()
+    }
+
+    /// The five integrals of `mu(s) v_T / |v_T|` (and `int mu r ds` as W) for one segment
+    /// starting at sigma0, per unit line load q, and `int mu ds`.
+    pub fn segment_integrals(
+        &self,
+        x0: f64,
+        y: f64,
+        kappa: f64,
+        len: f64,
+        sigma0: f64,
+    ) -> (LineIntegrals, f64) {
+        if !(len > 0.0) {
+            return (LineIntegrals::default(), 0.0);
+        }
+        if self.sin_beta_b == 0.0 && kappa == 0.0 {
+            // Spur line: sigma, v_T and so mu are constant along it.
+            let r = x0.hypot(y);
+            let mu = self.mu_at(sigma0, r);
+            if r > 0.0 {
+                let k = 0.5 * len * len;
+                let (ux, uy) = (mu * x0 / r, mu * y / r);
+                return (
+                    LineIntegrals {
+                        ix: len * ux,
+                        iy: len * uy,
+                        kx: k * ux,
+                        ky: k * uy,
+                        w: len * mu * r,
+                    },
+                    len * mu,
+                );
+            }
+            return (LineIntegrals::default(), len * mu);
+        }
+        let ctx = Ctx {
+            x0,
+            y,
+            kappa,
+            sigma0,
+        };
+        let mut acc = Acc::default();
+        let root = if kappa != 0.0 { x0 / kappa } else { f64::NAN };
+        if root > 0.0 && root < len {
+            acc.piece(self, &ctx, 0.0, root, root);
+            acc.piece(self, &ctx, root, len, root);
+        } else {
+            acc.piece(self, &ctx, 0.0, len, root);
+        }
+        (
+            LineIntegrals {
+                ix: acc.ix,
+                iy: y * acc.iy,
+                kx: acc.kx,
+                ky: y * acc.ky,
+                w: acc.w,
+            },
+            acc.mu,
+        )
+    }
+}
+
+/// Segment data for the quadrature.
+struct Ctx {
+    x0: f64,
+    y: f64,
+    kappa: f64,
+    sigma0: f64,
+}
+
+#[derive(Default)]
+struct Acc {
+    ix: f64,
+    iy: f64,
+    kx: f64,
+    ky: f64,
+    w: f64,
+    mu: f64,
+}
+
+impl Acc {
+    #[inline]
+    fn node(&mut self, e: &EhlLine, c: &Ctx, s: f64, wq: f64) {
+        let x = c.x0 - c.kappa * s;
+        let r = x.hypot(c.y);
+        if !(r > 0.0) {
+            return;
+        }
+        let mu = e.mu_at(c.sigma0 - e.sin_beta_b * s, r);
+        let wm = wq * mu;
+        let f = wm / r;
+        self.ix += f * x;
+        self.iy += f;
+        self.kx += f * x * s;
+        self.ky += f * s;
+        self.w += wm * r;
+        self.mu += wm;
+    }
+
+    /// Integrates over [a, b] (b > a) on one side of the sign change at `root` (NaN or
+    /// outside [a, b] when there is none in the segment).
+    fn piece(&mut self, e: &EhlLine, c: &Ctx, a: f64, b: f64, root: f64) {
+        let len = b - a;
+        if !(len > 0.0) {
+            return;
+        }
+        let (da, db) = ((a - root).abs(), (b - root).abs());
+        let (near, far) = if da <= db { (da, db) } else { (db, da) };
+        if !(near < len) {
+            // Root far away (or none): the integrand is smooth on [a, b].
+            let h = 0.5 * len;
+            for i in 0..5 {
+                for sgn in [-1.0, 1.0] {
+                    self.node(e, c, a + h * (1.0 + sgn * GL_X[i]), h * GL_W[i]);
+                }
+            }
+            return;
+        }
+        // d = far t^3 with t in [t0, 1]; s = root + dir d.
+        let dir = if a + b > 2.0 * root { 1.0 } else { -1.0 };
+        let t0 = (near / far).cbrt();
+        let (tm, th) = (0.5 * (1.0 + t0), 0.5 * (1.0 - t0));
+        for i in 0..5 {
+            for sgn in [-1.0, 1.0] {
+                let t = tm + sgn * th * GL_X[i];
+                let t2 = t * t;
+                let s = root + dir * far * t2 * t;
+                self.node(e, c, s, th * GL_W[i] * 3.0 * far * t2);
+            }
+        }
+    }
+}
