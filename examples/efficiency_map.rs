@@ -34,7 +34,10 @@ fn main() {
             ..Params::default()
         };
         let t0 = Instant::now();
-        println!("\nlaw {} ({law:?}): efficiency [%] / mean mu_eff", law.code());
+        println!(
+            "\nlaw {} ({law:?}): efficiency [%] / mean mu_eff",
+            law.code()
+        );
         print!("{:>6}", "rpm");
         for l in loads {
             print!(" | {:>9.0} N m          ", l);

@@ -25,17 +25,50 @@
 //! (Xu 2005): P_h 0.5..2.5 GPa, SR up to ~1, V_e a few to ~30 m/s, typical automotive
 //! gear oils; elsewhere it is an extrapolation (V_e is floored at [`V_E_MIN`]).
 //!
-//! Quadrature: each segment is split where x(s) changes sign; on each side the distance
-//! d from that root is substituted as `d = d_far t^3` (the integrand, ~d^1.036 smooth(d)
-//! near the root, becomes smooth in t) and integrated with 10-point Gauss-Legendre; a
-//! side whose root lies farther away than its length gets plain Gauss-Legendre. Spur
-//! lines (sigma constant along the line) need one evaluation of mu. No allocation.
+//! Quadrature: each segment is split where x(s) changes sign. Near that root the
+//! integrand is `d^b3 g(d)` in the distance d from it, with g smooth (for y = 0), so each
+//! side is integrated by a 10-point Gauss-Jacobi rule for the weight d^b3 on
+//! [0, d_far/2] (minus [0, d_near] when the root lies just outside the segment) and
+//! 10-point Gauss-Legendre on [d_far/2, d_far]; with axial sliding
+//! (y != 0) by Gauss-Legendre in t with d = d_far t^3; a side whose root lies farther away
+//! than a quarter of its length gets 10-point Gauss-Legendre. Spur lines (sigma constant along the
+//! line) need one evaluation of mu. No allocation.
 
 use super::{LineIntegrals, GL_W, GL_X};
 
 /// Xu et al. (2007) coefficients b1..b9 for the 75W90 oil (their table 2).
 pub const XU_B: [f64; 9] = [
     -8.916465, 1.03303, 1.036077, -0.354068, 2.812084, -0.100601, 0.752755, -0.390958, 0.620305,
+];
+
+/// Nodes of the 10-point Gauss-Jacobi rule for `int_0^1 u^b3 g(u) du` (b3 = 1.036077 of
+/// [`XU_B`]), by Golub-Welsch in 40-digit arithmetic (exact for g of degree <= 19).
+#[allow(clippy::excessive_precision)]
+const GJ_X: [f64; 10] = [
+    0.030688807066477196945,
+    0.099387846150663433585,
+    0.20035837284406491832,
+    0.32543840655260438154,
+    0.46452608923152146914,
+    0.60638959860929487547,
+    0.73957338606247751589,
+    0.85332332740648847286,
+    0.93845662125485954481,
+    0.98811947854616804332,
+];
+/// Weights matching [`GJ_X`] (they sum to 1/(1 + b3)).
+#[allow(clippy::excessive_precision)]
+const GJ_W: [f64; 10] = [
+    0.001365642086831812379,
+    0.0078641079999687145576,
+    0.021661915834414182589,
+    0.041843787718258343456,
+    0.064342586476047226498,
+    0.083021786306639125953,
+    0.091559848538750126175,
+    0.085525141077227033331,
+    0.063961333900589901045,
+    0.029994411051845108667,
 ];
 
 /// Floor of the entraining speed V_e [m/s] (guard at standstill, outside the fit).
@@ -119,6 +152,13 @@ impl EhlLine {
     /// everything that varies along a line: R(sigma), V_e(sigma), SR = r / V_e.
     #[inline]
     pub fn mu_at(&self, sigma: f64, r: f64) -> f64 {
+        self.mu_over_power(sigma, r, 1.0)
+    }
+
+    /// `mu / d^b3` for a distance d > 0 [m] (the quadrature's weight d^b3 divided out
+    /// analytically: `b3 ln(r / d)` in place of `b3 ln r`); `d = 1` gives mu.
+    #[inline]
+    fn mu_over_power(&self, sigma: f64, r: f64, d: f64) -> f64 {
         let b = XU_B;
         let (rho1, rho2) = (sigma, self.lt - sigma);
         if !(rho1 > 0.0 && rho2 > 0.0 && r > 0.0) {
@@ -134,7 +174,7 @@ impl EhlLine {
             + b[4] * (-z).exp()
             + (b[7] - 0.5 * b[1]) * rr.ln()
             + (b[5] - b[2]) * ve.ln()
-            + b[2] * r.ln();
+            + b[2] * (r / d).ln();
         ln_mu.exp()
     }
 
@@ -217,24 +257,6 @@ struct Acc {
 }
 
 impl Acc {
-    #[inline]
-    fn node(&mut self, e: &EhlLine, c: &Ctx, s: f64, wq: f64) {
-        let x = c.x0 - c.kappa * s;
-        let r = x.hypot(c.y);
-        if !(r > 0.0) {
-            return;
-        }
-        let mu = e.mu_at(c.sigma0 - e.sin_beta_b * s, r);
-        let wm = wq * mu;
-        let f = wm / r;
-        self.ix += f * x;
-        self.iy += f;
-        self.kx += f * x * s;
-        self.ky += f * s;
-        self.w += wm * r;
-        self.mu += wm;
-    }
-
     /// Integrates over [a, b] (b > a) on one side of the sign change at `root` (NaN or
     /// outside [a, b] when there is none in the segment).
     fn piece(&mut self, e: &EhlLine, c: &Ctx, a: f64, b: f64, root: f64) {
@@ -244,18 +266,41 @@ impl Acc {
         }
         let (da, db) = ((a - root).abs(), (b - root).abs());
         let (near, far) = if da <= db { (da, db) } else { (db, da) };
-        if !(near < len) {
-            // Root far away (or none): the integrand is smooth on [a, b].
+        if !(near < 0.25 * len) {
+            // Root far away (or none): the integrand is smooth on [a, b] (its branch point
+            // at least a quarter length from it: Bernstein ellipse rho >= 2.6; the branch
+            // point is weak, |x|^1.036).
             let h = 0.5 * len;
             for i in 0..5 {
                 for sgn in [-1.0, 1.0] {
-                    self.node(e, c, a + h * (1.0 + sgn * GL_X[i]), h * GL_W[i]);
+                    let s = a + h * (1.0 + sgn * GL_X[i]);
+                    self.node(e, c, s, h * GL_W[i], 0.0);
                 }
             }
             return;
         }
-        // d = far t^3 with t in [t0, 1]; s = root + dir d.
         let dir = if a + b > 2.0 * root { 1.0 } else { -1.0 };
+        if c.y == 0.0 {
+            // In the distance d from the root the integrand is d^b3 times a smooth
+            // function: Gauss-Jacobi with that weight on [0, far/2] (minus [0, near] when
+            // the root lies outside), Gauss-Legendre on [far/2, far] (rho = 5.8).
+            let mid = 0.5 * far;
+            self.jacobi(e, c, root, dir, mid, 1.0);
+            if near > 0.0 {
+                self.jacobi(e, c, root, dir, near, -1.0);
+            }
+            let h = 0.25 * far;
+            for i in 0..5 {
+                for sgn in [-1.0, 1.0] {
+                    let s = root + dir * (mid + h * (1.0 + sgn * GL_X[i]));
+                    self.node(e, c, s, h * GL_W[i], 0.0);
+                }
+            }
+            return;
+        }
+        // y != 0 (axial sliding): r^b3 does not vanish at the root; d = far t^3 with t in
+        // [t0, 1] clusters the nodes there (relative accuracy ~1e-6 when |y| is small
+        // against the sliding along the segment, docs/friction.md).
         let t0 = (near / far).cbrt();
         let (tm, th) = (0.5 * (1.0 + t0), 0.5 * (1.0 - t0));
         for i in 0..5 {
@@ -263,8 +308,42 @@ impl Acc {
                 let t = tm + sgn * th * GL_X[i];
                 let t2 = t * t;
                 let s = root + dir * far * t2 * t;
-                self.node(e, c, s, th * GL_W[i] * 3.0 * far * t2);
+                self.node(e, c, s, th * GL_W[i] * 3.0 * far * t2, 0.0);
             }
         }
+    }
+
+    /// `sign * int_0^dmax` over the distance d from the root along `dir`, by the
+    /// 10-point Gauss-Jacobi rule for the weight d^b3.
+    fn jacobi(&mut self, e: &EhlLine, c: &Ctx, root: f64, dir: f64, dmax: f64, sign: f64) {
+        let scale = sign * dmax.powf(1.0 + XU_B[2]);
+        for i in 0..10 {
+            let d = dmax * GJ_X[i];
+            self.node(e, c, root + dir * d, scale * GJ_W[i], d);
+        }
+    }
+
+    /// Adds the node s with weight wq; `d > 0`: the weight includes d^b3 (Gauss-Jacobi),
+    /// so mu / d^b3 is used; `d = 0`: plain weight, mu itself.
+    #[inline]
+    fn node(&mut self, e: &EhlLine, c: &Ctx, s: f64, wq: f64, d: f64) {
+        let x = c.x0 - c.kappa * s;
+        let r = (x * x + c.y * c.y).sqrt();
+        if !(r > 0.0) {
+            return;
+        }
+        let mu = e.mu_over_power(
+            c.sigma0 - e.sin_beta_b * s,
+            r,
+            if d > 0.0 { d } else { 1.0 },
+        );
+        let wm = wq * mu;
+        let f = wm / r;
+        self.ix += f * x;
+        self.iy += f;
+        self.kx += f * x * s;
+        self.ky += f * s;
+        self.w += wm * r;
+        self.mu += wm;
     }
 }
