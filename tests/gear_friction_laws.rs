@@ -141,9 +141,9 @@ fn line_case(rng: &mut Rng, i: usize) -> (f64, f64, f64, f64) {
 fn law2_closed_forms_match_adaptive_quadrature() {
     let mut rng = Rng(21);
     let mut worst: f64 = 0.0;
-    for i in 0..3000 {
+    for i in 0..250 {
         let (x0, y, kappa, len) = line_case(&mut rng, i);
-        let v_reg = lg(&mut rng, 1e-5, 1.0);
+        let v_reg = lg(&mut rng, 1e-4, 1.0);
         let li = regularised_integrals(x0, y, kappa, len, v_reg);
         let v2 = v_reg * v_reg;
         let integrand = |s: f64, x: f64, y: f64| {

@@ -348,3 +348,60 @@ fn law4_efficiency_rises_with_speed_at_constant_torque() {
     println!("law 4, T_load = 100 N m: (rpm, efficiency) = {eta:?}");
     assert!(eta[0].1 < eta[1].1 && eta[1].1 < eta[2].1, "{eta:?}");
 }
+
+#[test]
+fn jacobian_matches_central_differences_for_every_law() {
+    // As tests/rotor_jacobian.rs for law 1: the friction columns are one-sided
+    // differences, so agreement is ~1e-4 of the row scale; a wrong lambda column
+    // (e.g. law 3 without the factor 1.2 of mu_mz ~ |lambda|^0.2) shows up above 1e-3.
+    let mut rng = Rng(62);
+    for law in LAWS {
+        let mut worst: f64 = 0.0;
+        let mut model = GearedRotor::new(with_law(law)).unwrap();
+        for _ in 0..15 {
+            model.set_inputs(Inputs {
+                omega1: 314.159 + rng.sym(50.0),
+                t_load: 50.0 + rng.sym(50.0),
+                ..Inputs::default()
+            });
+            let (mut ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
+            for j in 0..6 {
+                ic.u[j] += rng.sym(2e-6);
+                ic.u_dot[j] = rng.sym(0.02);
+            }
+            ic.phi1 = rng.sym(10.0);
+            let y = model.initialize_with(0.0, &ic).unwrap();
+            let mut jac = nalgebra::SMatrix::<f64, NY, NY>::zeros();
+            assert!(model.jacobian(0.0, &y, &mut jac));
+            let mut fp = SVector::<f64, NY>::zeros();
+            let mut fm = SVector::<f64, NY>::zeros();
+            for j in 0..NY {
+                let h = if j < 7 {
+                    1e-8
+                } else {
+                    1e-7 * y[j].abs().max(1e-2)
+                };
+                let (mut yp, mut ym) = (y, y);
+                yp[j] += h;
+                ym[j] -= h;
+                model.rhs(0.0, &yp, &mut fp).unwrap();
+                model.rhs(0.0, &ym, &mut fm).unwrap();
+                for i in 0..NY {
+                    let fd = (fp[i] - fm[i]) / (yp[j] - ym[j]);
+                    let row_scale = (0..NY)
+                        .map(|k| jac[(i, k)].abs())
+                        .fold(0.0, f64::max)
+                        .max(1e-300);
+                    let e = (fd - jac[(i, j)]).abs() / row_scale;
+                    worst = worst.max(e);
+                    assert!(
+                        e < 1e-3,
+                        "law {law:?}: d f{i}/d y{j}: jac {} fd {fd} (row scale {row_scale})",
+                        jac[(i, j)]
+                    );
+                }
+            }
+        }
+        println!("law {}: max |J - FD| / max|row| = {worst:.2e}", law.code());
+    }
+}
