@@ -403,5 +403,27 @@ fn jacobian_matches_central_differences_for_every_law() {
             }
         }
         println!("law {}: max |J - FD| / max|row| = {worst:.2e}", law.code());
+        // The lambda column on its own scale: its friction part is ~2 % of the
+        // constraint row G there, so a wrong d(mu |lambda|)/d|lambda| hides in the row scale.
+        let y = model.initialize(0.0).unwrap();
+        let mut jac = nalgebra::SMatrix::<f64, NY, NY>::zeros();
+        assert!(model.jacobian(0.0, &y, &mut jac));
+        let l = idx::LAMBDA;
+        let h = 1e-6 * y[l].abs();
+        let (mut yp, mut ym) = (y, y);
+        yp[l] += h;
+        ym[l] -= h;
+        let mut fp = SVector::<f64, NY>::zeros();
+        let mut fm = SVector::<f64, NY>::zeros();
+        model.rhs(0.0, &yp, &mut fp).unwrap();
+        model.rhs(0.0, &ym, &mut fm).unwrap();
+        let col = (0..NY).map(|i| jac[(i, l)].abs()).fold(0.0, f64::max);
+        let mut e_col: f64 = 0.0;
+        for i in 0..NY {
+            let fd = (fp[i] - fm[i]) / (2.0 * h);
+            e_col = e_col.max((fd - jac[(i, l)]).abs() / col);
+        }
+        println!("law {}: lambda column |J - FD| / max|column| = {e_col:.2e}", law.code());
+        assert!(e_col < 1e-6, "law {law:?}: lambda column {e_col:e}");
     }
 }
