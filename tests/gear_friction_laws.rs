@@ -110,7 +110,7 @@ fn rel_err(li: &LineIntegrals, r: &[f64; 6], len: f64, w_scale: f64) -> f64 {
     e.iter().cloned().fold(0.0, f64::max)
 }
 
-/// Random line cases over the regimes of `model.md` §4: sign change inside, near an end,
+/// Random line cases over the regimes of the Coulomb integrals: sign change inside, near an end,
 /// kappa -> 0, y -> 0, y = 0.
 fn line_case(rng: &mut Rng, i: usize) -> (f64, f64, f64, f64) {
     let len = 0.005 + 0.02 * rng.next();
@@ -124,7 +124,7 @@ fn line_case(rng: &mut Rng, i: usize) -> (f64, f64, f64, f64) {
         2 => -len * rng.next(),
         _ => len * (1.0 + 3.0 * rng.next()),
     };
-    let x0 = if i % 5 == 0 {
+    let x0 = if i.is_multiple_of(5) {
         rng.sym(3.0)
     } else {
         kappa * root
@@ -402,10 +402,10 @@ fn law4_line_integrals_match_adaptive_quadrature() {
     let lub = fp.lubricant();
     let mut worst: f64 = 0.0;
     let mut worst_y: f64 = 0.0;
-    for i in 0..2000 {
+    for i in 0..2000u32 {
         // a line of the default pair's size: sigma in the active part of the line of action
         let lt = 0.026;
-        let beta_b: f64 = if i % 7 == 0 { 0.0 } else { 0.33 };
+        let beta_b: f64 = if i.is_multiple_of(7) { 0.0 } else { 0.33 };
         let (sb, cb) = beta_b.sin_cos();
         let omega = (314.159 * (0.3 + rng.next()), 206.9 * (0.3 + rng.next()));
         let q = lg(&mut rng, 1e4, 4e5);
@@ -415,7 +415,11 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         let len = len.min((sigma0 - 0.002) / sb.max(1e-300));
         let kappa = (omega.0 + omega.1) * sb;
         // x(s) = x_base + (omega1 + omega2) sigma(s): rolling at sigma_p = omega2 lt / sum
-        let jitter = if i % 3 == 0 { rng.sym(0.3) } else { 0.0 };
+        let jitter = if i.is_multiple_of(3) {
+            rng.sym(0.3)
+        } else {
+            0.0
+        };
         let x0 = -omega.1 * lt + (omega.0 + omega.1) * sigma0 + jitter;
         let y = match i % 4 {
             0 | 1 => 0.0,
@@ -476,13 +480,13 @@ fn virtual_power_equals_minus_loss_for_every_law() {
     let mut worst = [0.0f64; 3];
     for d in gear_sets() {
         let g = PairGeometry::new(&d).unwrap();
-        for i in 0..600 {
+        for i in 0..600u32 {
             let u1 = Vector3::new(rng.sym(5e-5), rng.sym(5e-5), rng.sym(5e-5));
             let u2 = Vector3::new(rng.sym(5e-5), rng.sym(5e-5), rng.sym(5e-5));
             let m = g.mesh(&u1, &u2).unwrap();
             let omega1 = 50.0 + 350.0 * rng.next();
             let omega2 = omega1 * g.rb1 / g.rb2 * (1.0 + rng.sym(1e-3));
-            let vs = if i % 3 == 0 { 1e-6 } else { 0.5 };
+            let vs = if i.is_multiple_of(3) { 1e-6 } else { 0.5 };
             let k = Kinematics {
                 v1: Vector3::new(rng.sym(vs), rng.sym(vs), rng.sym(vs)),
                 v2: Vector3::new(rng.sym(vs), rng.sym(vs), rng.sym(vs)),

@@ -90,14 +90,18 @@ fn consistent_lambda_satisfies_the_hidden_constraint_for_every_law() {
     let mut rng = Rng(61);
     for law in LAWS {
         let mut worst: f64 = 0.0;
-        for i in 0..300 {
+        for i in 0..300u32 {
             let mut p = with_law(law);
             p.mu = 0.02 + 0.1 * rng.next();
             p.friction.eta_oil = lg(&mut rng, 0.005, 0.2);
             let mut model = GearedRotor::new(p).unwrap();
             model.set_inputs(Inputs {
                 omega1: 50.0 + 400.0 * rng.next(),
-                t_load: if i % 2 == 0 { rng.sym(150.0) } else { 0.0 },
+                t_load: if i.is_multiple_of(2) {
+                    rng.sym(150.0)
+                } else {
+                    0.0
+                },
                 ..Inputs::default()
             });
             let mut ic = InitialConditions::default();
@@ -212,7 +216,7 @@ fn energy_balance_closes_for_every_law() {
 
 #[test]
 fn law3_mean_loss_is_the_standards_load_dependent_loss_with_stiff_bearings() {
-    // integer overlap ratio (constant contact length: H_V exact, model.md §9.7)
+    // integer overlap ratio (constant contact length: H_V exact)
     let d0 = GearData::default();
     let g0 = PairGeometry::new(&d0).unwrap();
     let b1 = g0.p_bt / g0.beta_b.tan();
@@ -423,7 +427,10 @@ fn jacobian_matches_central_differences_for_every_law() {
             let fd = (fp[i] - fm[i]) / (2.0 * h);
             e_col = e_col.max((fd - jac[(i, l)]).abs() / col);
         }
-        println!("law {}: lambda column |J - FD| / max|column| = {e_col:.2e}", law.code());
+        println!(
+            "law {}: lambda column |J - FD| / max|column| = {e_col:.2e}",
+            law.code()
+        );
         assert!(e_col < 1e-6, "law {law:?}: lambda column {e_col:e}");
     }
 }

@@ -86,9 +86,9 @@ impl FrictionLaw {
 pub enum LineLaw {
     /// Coulomb, unit coefficient (laws 1 and 3).
     Coulomb,
-    /// Regularised Coulomb (law 2) with the regularising speed v_reg > 0 [m/s].
+    /// Regularised Coulomb (law 2) with the regularising speed v_reg > 0 (m/s).
     Regularised {
-        /// v_reg [m/s].
+        /// v_reg (m/s).
         v_reg: f64,
         /// Also accumulate `mu_len` (outputs only: 20 more square roots per line).
         with_mean: bool,

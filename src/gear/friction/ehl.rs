@@ -8,16 +8,16 @@
 //! `mu = exp(f) P_h^b2 |SR|^b3 V_e^b6 nu0^b7 R^b8`,
 //! `f = b1 + b4 |SR| P_h log10(nu0) + b5 exp(-|SR| P_h log10(nu0)) + b9 exp(S)`,
 //!
-//! in the paper's units: P_h [GPa] the maximum Hertzian pressure, SR = u_s / V_e [1] the
-//! slide-to-roll ratio, V_e [m/s] the entraining (mean rolling) speed, nu0 [mPa s = cP] the
-//! dynamic viscosity at the inlet temperature and ambient pressure, R [m] the equivalent
-//! radius of curvature in the normal section, S [um] the composite roughness.
+//! in the paper's units: P_h (GPa) the maximum Hertzian pressure, SR = u_s / V_e (1) the
+//! slide-to-roll ratio, V_e (m/s) the entraining (mean rolling) speed, nu0 [mPa s = cP] the
+//! dynamic viscosity at the inlet temperature and ambient pressure, R (m) the equivalent
+//! radius of curvature in the normal section, S (um) the composite roughness.
 //!
-//! Along a line (`model.md` §4) at `sigma(s) = sigma0 - sin beta_b s` from T1 on the line
+//! Along a line at `sigma(s) = sigma0 - sin beta_b s` from T1 on the line
 //! of action (length L_t = a sin alpha): rho1 = sigma, rho2 = L_t - sigma,
 //! `R = rho1 rho2 / (L_t cos beta_b)`, `V_e = (omega1 rho1 + omega2 rho2)/2`, the sliding
-//! speed `u_s = |v_T| = r(s)` (as in the integrals of `model.md` §4), and
-//! `P_h = sqrt(q E' / (2 pi R))` for the line load q = |lambda| / l [N/m],
+//! speed `u_s = |v_T| = r(s)` (as in the Coulomb line integrals), and
+//! `P_h = sqrt(q E' / (2 pi R))` for the line load q = |lambda| / l (N/m),
 //! `E' = 2 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)`.
 //!
 //! The friction force per unit length is `mu(s) q v_T / |v_T|`; since mu ~ |SR|^1.036,
@@ -71,7 +71,7 @@ const GJ_W: [f64; 10] = [
     0.029994411051845108667,
 ];
 
-/// Floor of the entraining speed V_e [m/s] (guard at standstill, outside the fit).
+/// Floor of the entraining speed V_e (m/s) (guard at standstill, outside the fit).
 pub const V_E_MIN: f64 = 1e-3;
 
 /// Xu et al. (2007) eqs. (4)-(5) in the paper's units (P_h GPa, SR 1, V_e m/s, nu0 mPa s,
@@ -87,16 +87,16 @@ pub fn mu_xu(p_h: f64, sr: f64, v_e: f64, nu0: f64, r: f64, s: f64) -> f64 {
 /// The lubricant and the flank materials of law 4 (SI units).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lubricant {
-    /// Dynamic viscosity of the oil at the inlet temperature [Pa s].
+    /// Dynamic viscosity of the oil at the inlet temperature (Pa s).
     pub eta_oil: f64,
-    /// Composite roughness [m] (Xu's S).
+    /// Composite roughness (m) (Xu's S).
     pub roughness: f64,
-    /// Reduced modulus E' = 2 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2) [Pa].
+    /// Reduced modulus E' = 2 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2) (Pa).
     pub e_reduced: f64,
 }
 
 impl Lubricant {
-    /// E' from Young's moduli [Pa] and Poisson's ratios of both gears.
+    /// E' from Young's moduli (Pa) and Poisson's ratios of both gears.
     pub fn reduced_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
         2.0 / ((1.0 - nu1 * nu1) / e1 + (1.0 - nu2 * nu2) / e2)
     }
@@ -107,13 +107,13 @@ impl Lubricant {
 pub struct EhlLine {
     /// Constant part of ln mu: b1 + b9 e^S + b7 ln nu0 + b2 ln(P_h sqrt(R)).
     ln_k: f64,
-    /// P_h sqrt(R) [GPa m^0.5] = sqrt(q E' / (2 pi)) 1e-9.
+    /// P_h sqrt(R) (GPa m^0.5) = sqrt(q E' / (2 pi)) 1e-9.
     ph_c: f64,
-    /// log10(nu0 [mPa s]).
+    /// log10(nu0 (mPa s)).
     log10_nu: f64,
     omega1: f64,
     omega2: f64,
-    /// L_t = a sin alpha [m].
+    /// L_t = a sin alpha (m).
     lt: f64,
     /// 1 / (L_t cos beta_b).
     inv_lt_cb: f64,
@@ -121,8 +121,8 @@ pub struct EhlLine {
 }
 
 impl EhlLine {
-    /// Law 4 at line load `q = |lambda| / l` [N/m], speeds omega1, omega2 [rad/s], on the
-    /// line of action of length `lt` [m] with base helix angle beta_b.
+    /// Law 4 at line load `q = |lambda| / l` (N/m), speeds omega1, omega2 (rad/s), on the
+    /// line of action of length `lt` (m) with base helix angle beta_b.
     pub fn new(
         lub: &Lubricant,
         q: f64,
@@ -155,7 +155,7 @@ impl EhlLine {
         self.mu_over_power(sigma, r, 1.0)
     }
 
-    /// `mu / d^b3` for a distance d > 0 [m] (the quadrature's weight d^b3 divided out
+    /// `mu / d^b3` for a distance d > 0 (m) (the quadrature's weight d^b3 divided out
     /// analytically: `b3 ln(r / d)` in place of `b3 ln r`); `d = 1` gives mu.
     #[inline]
     fn mu_over_power(&self, sigma: f64, r: f64, d: f64) -> f64 {

@@ -5,11 +5,11 @@
 //!
 //! `mu_mz = 0.048 (F_bt/b / (v_SigmaC rho_redC))^0.2 eta_oil^-0.05 Ra^0.25 X_L`
 //!
-//! in the standard's own units: F_bt/b [N/mm] the transverse tangential load at the base
-//! circle per face width, v_SigmaC [m/s] the sum of the rolling speeds at the pitch point
-//! (`2 v_t sin alpha_wt`), rho_redC [mm] the equivalent radius of curvature at the pitch
-//! point in the normal section, eta_oil [mPa s] the dynamic viscosity of the oil at its
-//! temperature, Ra [um] the mean arithmetic roughness `(Ra1 + Ra2)/2`, X_L [1] the
+//! in the standard's own units: F_bt/b (N/mm) the transverse tangential load at the base
+//! circle per face width, v_SigmaC (m/s) the sum of the rolling speeds at the pitch point
+//! (`2 v_t sin alpha_wt`), rho_redC (mm) the equivalent radius of curvature at the pitch
+//! point in the normal section, eta_oil (mPa s) the dynamic viscosity of the oil at its
+//! temperature, Ra (um) the mean arithmetic roughness `(Ra1 + Ra2)/2`, X_L (1) the
 //! lubricant factor (1.0 mineral oil; smaller for synthetic oils). The load-dependent mesh
 //! loss of the standard is then `P_VZP = mu_mz H_V P_in`.
 //!
@@ -18,7 +18,7 @@
 //! limit at standstill (mu_mz grows as v^-0.2 when v_SigmaC -> 0): the model floors the sum
 //! speed at [`V_SUM_MIN`] and reports the coefficient it uses (`mu_mz` output).
 
-/// Floor of the sum speed v_SigmaC [m/s] below which the formula is not evaluated
+/// Floor of the sum speed v_SigmaC (m/s) below which the formula is not evaluated
 /// (a guard at start-up, far outside the formula's range).
 pub const V_SUM_MIN: f64 = 0.1;
 
@@ -33,25 +33,25 @@ pub fn mu_mz(f_bt_per_b: f64, v_sum: f64, rho_red: f64, eta_oil: f64, ra: f64, x
 pub struct IsoMean {
     /// cos beta_b (F_bt = lambda cos beta_b, the transverse part of the normal force).
     pub cos_beta_b: f64,
-    /// Face width b [mm].
+    /// Face width b (mm).
     pub b_mm: f64,
-    /// rho_redC [mm] = rho_1C rho_2C / ((rho_1C + rho_2C) cos beta_b), rho_jC = r_bj tan alpha_wt.
+    /// rho_redC (mm) = rho_1C rho_2C / ((rho_1C + rho_2C) cos beta_b), rho_jC = r_bj tan alpha_wt.
     pub rho_red_mm: f64,
     /// tan alpha_wt: v_SigmaC = tan alpha_wt (omega1 r_b1 + omega2 r_b2).
     pub tan_alpha_wt: f64,
-    /// r_b1, r_b2 [m].
+    /// r_b1, r_b2 (m).
     pub rb: [f64; 2],
-    /// eta_oil [mPa s].
+    /// eta_oil (mPa s).
     pub eta_mpas: f64,
-    /// Ra [um].
+    /// Ra (um).
     pub ra_um: f64,
     /// X_L.
     pub x_l: f64,
 }
 
 impl IsoMean {
-    /// From SI inputs: face width b [m], base radii [m], working pressure angle
-    /// alpha_wt, cos beta_b, eta_oil [Pa s], Ra [m], X_L.
+    /// From SI inputs: face width b (m), base radii (m), working pressure angle
+    /// alpha_wt, cos beta_b, eta_oil (Pa s), Ra (m), X_L.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         b: f64,
@@ -77,12 +77,12 @@ impl IsoMean {
         }
     }
 
-    /// Sum of the rolling speeds at the pitch point [m/s] for the speeds omega1, omega2.
+    /// Sum of the rolling speeds at the pitch point (m/s) for the speeds omega1, omega2.
     pub fn v_sum(&self, omega1: f64, omega2: f64) -> f64 {
         self.tan_alpha_wt * (omega1 * self.rb[0] + omega2 * self.rb[1])
     }
 
-    /// mu_mz at the normal force |lambda| [N] and the speeds (v_SigmaC floored at
+    /// mu_mz at the normal force |lambda| (N) and the speeds (v_SigmaC floored at
     /// [`V_SUM_MIN`]; mu_mz = 0 at zero load).
     pub fn mu(&self, lambda: f64, omega1: f64, omega2: f64) -> f64 {
         let f = lambda.abs() * self.cos_beta_b / self.b_mm;

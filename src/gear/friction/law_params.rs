@@ -6,20 +6,20 @@ use crate::gear::ParamError;
 /// Parameters of the friction laws beyond Coulomb's mu (SI units; FMI names in brackets).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrictionParams {
-    /// Regularising speed of law 2 [m/s] (`v_reg`).
+    /// Regularising speed of law 2 (m/s) (`v_reg`).
     pub v_reg: f64,
-    /// Dynamic viscosity of the oil at its temperature [Pa s] (`eta_oil`), laws 3 and 4.
+    /// Dynamic viscosity of the oil at its temperature (Pa s) (`eta_oil`), laws 3 and 4.
     pub eta_oil: f64,
-    /// Mean arithmetic flank roughness Ra = (Ra1 + Ra2)/2 [m] (`Ra`); law 3, and law 4
+    /// Mean arithmetic flank roughness Ra = (Ra1 + Ra2)/2 (m) (`Ra`); law 3, and law 4
     /// as Xu's composite roughness S.
     pub ra: f64,
-    /// Lubricant factor X_L of ISO/TR 14179-2 [1] (`X_L`), law 3.
+    /// Lubricant factor X_L of ISO/TR 14179-2 (1) (`X_L`), law 3.
     pub x_l: f64,
-    /// Young's modulus of gear 1 [Pa] (`E1`), law 4.
+    /// Young's modulus of gear 1 (Pa) (`E1`), law 4.
     pub e1: f64,
     /// Poisson's ratio of gear 1 (`nu1`), law 4.
     pub nu1: f64,
-    /// Young's modulus of gear 2 [Pa] (`E2`), law 4.
+    /// Young's modulus of gear 2 (Pa) (`E2`), law 4.
     pub e2: f64,
     /// Poisson's ratio of gear 2 (`nu2`), law 4.
     pub nu2: f64,

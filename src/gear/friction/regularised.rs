@@ -1,7 +1,7 @@
 //! Law 2: Coulomb friction with a regularised sliding direction.
 //!
-//! The unit sliding direction `v_T / |v_T|` of `model.md` §4 is replaced by
-//! `v_T / sqrt(|v_T|^2 + v_reg^2)` (v_reg [m/s] > 0): the force per unit length on gear 2 is
+//! The unit sliding direction `v_T / |v_T|` of the Coulomb law is replaced by
+//! `v_T / sqrt(|v_T|^2 + v_reg^2)` (v_reg (m/s) > 0): the force per unit length on gear 2 is
 //! `-mu q v_T / sqrt(|v_T|^2 + v_reg^2)`, a smooth function of the velocities that tends to
 //! Coulomb's law as v_reg -> 0 (the usual regularisation for start-up from standstill; it
 //! removes the jump of f where the sliding on a spur line reverses at the pitch line).

@@ -1,6 +1,6 @@
 //! The friction law seen from the DAE: which local law and which scalar coefficient a
 //! state gets (`docs/friction.md`), the lambda column of the Jacobian for law 4, and the
-//! consistent lambda of the load-dependent laws 3 and 4 by a scalar solve (`model.md` §7).
+//! consistent lambda of the load-dependent laws 3 and 4 by a scalar solve.
 
 use super::{kinematics, GearedRotor};
 use crate::gear::{EhlLine, Friction, FrictionLaw, FrictionSums, LineLaw, Mesh};
@@ -102,7 +102,7 @@ impl GearedRotor {
         Ok(())
     }
 
-    /// Consistent lambda for the load-dependent laws 3 and 4 (`model.md` §7): the hidden
+    /// Consistent lambda for the load-dependent laws 3 and 4: the hidden
     /// constraint reads `h(lambda) = lambda A + G M^-1 Q_f(lambda) - r = 0` with A, r as
     /// in [`GearedRotor::consistent_lambda`]; Q_f uses |lambda| itself, so any root is
     /// consistent (no sign assumption). Secant iteration from the frictionless
