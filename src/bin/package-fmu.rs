@@ -195,8 +195,8 @@ frequency <code>omega1_filter_frequency</code>: <code>omega1'' = w_c^2 (omega1_r
 (0 &le; sigma_A &lt; sigma_E &le; a_w sin alpha_wt); eps_alpha + eps_beta &gt; 1; tip radii above the base radii.
 Violations are rejected in <code>fmi2ExitInitializationMode</code> with a message naming the parameter and the bound.</li>
 <li>Gear axes stay parallel to z (no tilting degrees of freedom); tilting moments are reported, not applied.</li>
-<li>Coulomb friction with constant mu (<code>friction_law</code> = 1); no start-up from standstill (the sliding direction is
-undefined at zero speed).</li>
+<li>Friction: law 1 (Coulomb, constant mu) has no start-up from standstill (the sliding direction is undefined at zero
+speed; law 2 regularises it). Laws 3 and 4 are empirical fits, valid in their fitted ranges (see "Friction laws").</li>
 <li>The centre distance must stay larger than r_b1 + r_b2; a solver failure returns <code>fmi2Discard</code> with the state at
 <code>fmi2LastSuccessfulTime</code>.</li>
 <li>Accuracy: RADAU5 with the tolerance of <code>fmi2SetupExperiment</code> (else <code>rtol</code>), absolute tolerances
@@ -205,6 +205,26 @@ internal step at most <code>h_max</code>. While the inputs stay the same, RADAU5
 and the outputs there come from its dense output; when an input or a tunable changes, the step that went past the
 communication point is retaken to end on it.</li>
 </ul>
+<h2>Friction laws (parameter <code>friction_law</code>)</h2>
+<p>The friction force per unit length of contact line is <code>-mu_loc q v_T/|v_T|</code> with the line load
+<code>q = |Fn| / contact_length</code> and the sliding velocity <code>v_T</code> in the tangent plane. Output
+<code>mu_eff</code>: the mean of mu_loc along the lines; <code>mu_mz</code>: the ISO/TR 14179-2 coefficient at the current
+load and speed (every law).</p>
+<ol>
+<li>Coulomb: <code>mu_loc = mu</code> (default).</li>
+<li>Regularised Coulomb: <code>v_T/|v_T|</code> replaced by <code>v_T/sqrt(|v_T|^2 + v_reg^2)</code> (<code>v_reg</code> [m/s]); smooth
+at the pitch line; tends to law 1 as v_reg^2 ln(1/v_reg).</li>
+<li>ISO/TR 14179-2 mean coefficient (Schlenk, as in Niemann/Winter): <code>mu_mz = 0.048 (F_bt/b / (v_SigmaC rho_redC))^0.2
+eta_oil^-0.05 Ra^0.25 X_L</code> in N/mm, m/s, mm, mPa s, um (<code>F_bt = Fn cos beta_b</code>; <code>v_SigmaC</code> the sum of the
+rolling speeds and <code>rho_redC</code> the equivalent radius of curvature at the pitch point); fitted to FZG tests in the
+mixed/EHL regime; v_SigmaC is floored at 0.1 m/s.</li>
+<li>Local EHL coefficient along the lines (Xu, Kahraman, Anderson, Maddock, J. Mech. Des. 129, 2007, for a 75W90 oil):
+<code>mu = exp(f) P_h^b2 |SR|^b3 V_e^b6 nu0^b7 R^b8</code>, <code>f = b1 + b4 |SR| P_h log10(nu0) + b5 exp(-|SR| P_h log10 nu0)
++ b9 exp(S)</code>, b1..b9 = -8.916465, 1.03303, 1.036077, -0.354068, 2.812084, -0.100601, 0.752755, -0.390958, 0.620305; P_h
+[GPa] Hertzian pressure from q and E1, nu1, E2, nu2; SR slide-to-roll ratio; V_e [m/s] entraining speed; nu0 = eta_oil
+[mPa s]; R [m] equivalent radius; S = Ra [um]. Fitted for P_h about 0.5-2.5 GPa, SR up to about 1.</li>
+</ol>
+<p>For laws 3 and 4 the coefficient depends on the contact force, which is then found by a scalar solve.</p>
 <h2>Variables</h2>
 <table><tr><th>name</th><th>causality</th><th>variability</th><th>type</th><th>unit</th><th>default</th><th>description</th></tr>
 "#,

@@ -1,7 +1,10 @@
 //! Law 3: the mean coefficient of friction of the tooth mesh after ISO/TR 14179-2.
 //!
-//! Schlenk's formula (Schlenk 1994, FZG Munich; in Niemann & Winter, Maschinenelemente
-//! II, 2nd ed. 1989/2003, eq. 21.8/4 area, and ISO/TR 14179-2:2001 eq. (8)):
+//! Schlenk's formula (L. Schlenk, dissertation TU Munich / FZG 1994), as given in
+//! Niemann & Winter, Maschinenelemente vol. II (Springer), and adopted by
+//! ISO/TR 14179-2:2001 for the load-dependent mesh loss (the equation numbers of these
+//! primary texts could not be checked here; the formula and its units are quoted the same
+//! way in the secondary literature on gear efficiency):
 //!
 //! `mu_mz = 0.048 (F_bt/b / (v_SigmaC rho_redC))^0.2 eta_oil^-0.05 Ra^0.25 X_L`
 //!
@@ -13,10 +16,10 @@
 //! lubricant factor (1.0 mineral oil; smaller for synthetic oils). The load-dependent mesh
 //! loss of the standard is then `P_VZP = mu_mz H_V P_in`.
 //!
-//! Fitted to FZG efficiency tests of case-carburised gears in the mixed/EHL regime
-//! (pitch-line speeds of a few to ~50 m/s, F_bt/b of ~100 to ~1000 N/mm). It has no
-//! limit at standstill (mu_mz grows as v^-0.2 when v_SigmaC -> 0): the model floors the sum
-//! speed at [`V_SUM_MIN`] and reports the coefficient it uses (`mu_mz` output).
+//! Fitted to FZG efficiency tests of case-carburised, ground gears in the mixed/EHL
+//! regime. It has no limit at standstill (mu_mz grows as v^-0.2 when v_SigmaC -> 0): the
+//! model floors the sum speed at [`V_SUM_MIN`] and reports the coefficient it uses
+//! (`mu_mz` output).
 
 /// Floor of the sum speed v_SigmaC (m/s) below which the formula is not evaluated
 /// (a guard at start-up, far outside the formula's range).
