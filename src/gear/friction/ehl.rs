@@ -1,9 +1,11 @@
 //! Law 4: a local EHL coefficient of friction mu(s) along every contact line.
 //!
 //! The regression formula of Xu, Kahraman, Anderson & Maddock (2007), "Prediction of
-//! mechanical efficiency of parallel-axis gear pairs", ASME J. Mech. Des. 129(1) 58-68,
-//! eqs. (4)-(5), fitted to thermal non-Newtonian EHL predictions for a 75W90 gear oil
-//! (coefficients b1..b9 of their table 2, also in Xu's 2005 Ohio State dissertation):
+//! mechanical efficiency of parallel-axis gear pairs", ASME J. Mech. Des. 129(1) 58-68:
+//! the friction formula of that paper (its eqs. 4-5 as far as could be checked here; the
+//! nine coefficients, fitted to thermal non-Newtonian EHL predictions for a 75W90 gear
+//! oil, were checked against a second text that reproduces them; they also appear in
+//! Xu's 2005 Ohio State dissertation):
 //!
 //! `mu = exp(f) P_h^b2 |SR|^b3 V_e^b6 nu0^b7 R^b8`,
 //! `f = b1 + b4 |SR| P_h log10(nu0) + b5 exp(-|SR| P_h log10(nu0)) + b9 exp(S)`,
@@ -36,7 +38,7 @@
 
 use super::{LineIntegrals, GL_W, GL_X};
 
-/// Xu et al. (2007) coefficients b1..b9 for the 75W90 oil (their table 2).
+/// Xu et al. (2007) coefficients b1..b9 for the 75W90 oil.
 pub const XU_B: [f64; 9] = [
     -8.916465, 1.03303, 1.036077, -0.354068, 2.812084, -0.100601, 0.752755, -0.390958, 0.620305,
 ];
@@ -74,7 +76,7 @@ const GJ_W: [f64; 10] = [
 /// Floor of the entraining speed V_e (m/s) (guard at standstill, outside the fit).
 pub const V_E_MIN: f64 = 1e-3;
 
-/// Xu et al. (2007) eqs. (4)-(5) in the paper's units (P_h GPa, SR 1, V_e m/s, nu0 mPa s,
+/// Xu et al. (2007) friction formula (eqs. 4-5) in the paper's units (P_h GPa, SR 1, V_e m/s, nu0 mPa s,
 /// R m, S um), evaluated literally (the reference for tests; the line integration uses
 /// an equivalent logarithmic form).
 pub fn mu_xu(p_h: f64, sr: f64, v_e: f64, nu0: f64, r: f64, s: f64) -> f64 {
