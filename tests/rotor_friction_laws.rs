@@ -434,3 +434,56 @@ fn jacobian_matches_central_differences_for_every_law() {
         assert!(e_col < 1e-6, "law {law:?}: lambda column {e_col:e}");
     }
 }
+
+#[test]
+fn bad_law_parameters_are_rejected_by_name() {
+    use geared_rotor::gear::FrictionParams;
+    let d = FrictionParams::default();
+    let cases: [(&str, FrictionParams); 8] = [
+        ("v_reg", FrictionParams { v_reg: 0.0, ..d }),
+        ("eta_oil", FrictionParams { eta_oil: -1.0, ..d }),
+        ("Ra", FrictionParams { ra: f64::NAN, ..d }),
+        ("X_L", FrictionParams { x_l: 0.0, ..d }),
+        (
+            "E1",
+            FrictionParams {
+                e1: f64::INFINITY,
+                ..d
+            },
+        ),
+        ("nu1", FrictionParams { nu1: 0.5, ..d }),
+        ("E2", FrictionParams { e2: 0.0, ..d }),
+        ("nu2", FrictionParams { nu2: -1.0, ..d }),
+    ];
+    for (name, fp) in cases {
+        let p = Params {
+            friction: fp,
+            ..Params::default()
+        };
+        let e = p.validate().unwrap_err();
+        assert_eq!(e.name, name, "{e}");
+        assert!(GearedRotor::new(p).is_err());
+    }
+}
+
+#[test]
+fn serialized_state_keeps_the_law_and_its_parameters() {
+    use geared_rotor::sim::codec::{Reader, Writer};
+    use geared_rotor::sim::SimState;
+    let mut p = with_law(FrictionLaw::LocalEhl);
+    p.friction.eta_oil = 0.071;
+    p.friction.nu2 = 0.27;
+    let settings = SolverSettings {
+        rtol: 1e-6,
+        h_max: 1e-4,
+    };
+    let mut s = Simulation::new(p, settings, 0.0, 314.159, 20.0).unwrap();
+    s.do_step(0.0, 1e-3).unwrap();
+    let mut w = Writer::default();
+    s.state().write(&mut w);
+    let mut r = Reader::new(&w.buf);
+    let st = SimState::read(&mut r).unwrap();
+    let s2 = Simulation::from_state(&st).unwrap();
+    assert_eq!(*s2.model().params(), p);
+    assert_eq!(s2.y(), s.y());
+}
