@@ -1,6 +1,9 @@
 //! Benchmark (not a test): median time of one f(t, y) and one Jacobian evaluation for the
-//! default pair. Run: `cargo run --release --example gear_bench`.
+//! default pair, per friction law (1 Coulomb, 2 regularised, 3 ISO/TR 14179-2 mean, 4 local
+//! EHL), and of one consistent lambda (a closed form for laws 1-2, a scalar solve for 3-4).
+//! Run: `cargo run --release --example gear_bench`.
 
+use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{GearedRotor, Inputs, Params, NY};
 use nalgebra::{SMatrix, SVector};
 use std::hint::black_box;
@@ -12,7 +15,22 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() {
-    let mut model = GearedRotor::new(Params::default()).expect("default parameters are valid");
+    for law in [
+        FrictionLaw::Coulomb,
+        FrictionLaw::RegularisedCoulomb,
+        FrictionLaw::IsoMean,
+        FrictionLaw::LocalEhl,
+    ] {
+        println!("friction law {} ({law:?})", law.code());
+        bench(Params {
+            friction_law: law,
+            ..Params::default()
+        });
+    }
+}
+
+fn bench(params: Params) {
+    let mut model = GearedRotor::new(params).expect("default parameters are valid");
     model.set_inputs(Inputs {
         omega1: 314.159,
         ..Inputs::default()
@@ -65,5 +83,19 @@ fn main() {
     println!(
         "jacobian: median {:.2} us per evaluation (100 x {reps} reps)",
         median(samples) * 1e6
+    );
+    let reps = 2000;
+    let mut samples = Vec::new();
+    for _ in 0..50 {
+        let t0 = Instant::now();
+        for r in 0..reps {
+            let y = &states[r % states.len()];
+            black_box(model.consistent_lambda(0.0, black_box(y)).expect("lambda"));
+        }
+        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
+    }
+    println!(
+        "consistent lambda: median {:.1} ns per evaluation (50 x {reps} reps)",
+        median(samples) * 1e9
     );
 }

@@ -9,6 +9,7 @@ use super::variables::{
     self, Causality, Var, VarType, Variability, Variable, LOG_CATEGORIES, N_VARIABLES, VARIABLES,
 };
 use crate::fmt_num::Short;
+use crate::gear::FrictionParams;
 use crate::gear::{GearData, ParamError};
 use crate::rotor::{FrictionLaw, Outputs, Params, RotorData};
 use crate::sim::codec::{self, DecodeError, Reader, Writer};
@@ -409,6 +410,8 @@ pub fn output_value(o: &Outputs, var: Var) -> Option<f64> {
         gap => o.gap,
         P_in => o.p_in,
         P_loss => o.p_loss,
+        mu_eff => o.mu_eff,
+        mu_mz => o.mu_mz,
         P_damp => o.p_damp,
         E_in => o.e_in,
         E_loss => o.e_loss,
@@ -737,13 +740,14 @@ impl Instance {
     fn params(&self) -> Result<Params, ParamError> {
         use Var::*;
         let law = self.v(friction_law);
-        if law != 1.0 {
+        let Some(law_kind) = FrictionLaw::from_code(law as i32).filter(|_| law.fract() == 0.0)
+        else {
             return Err(ParamError {
                 name: "friction_law",
                 value: law,
-                requirement: "friction_law = 1 (Coulomb)".into(),
+                requirement: "friction_law in 1..=4 (1 Coulomb, 2 regularised, 3 ISO/TR 14179-2, 4 local EHL)".into(),
             });
-        }
+        };
         let gear = GearData {
             z1: self.v(z1) as i32,
             z2: self.v(z2) as i32,
@@ -775,8 +779,18 @@ impl Instance {
             d_phi: self.v(d_phi),
             mu: self.v(mu),
             psi0: self.v(psi0),
-            friction_law: FrictionLaw::Coulomb,
+            friction_law: law_kind,
             omega1_filter_hz: self.v(omega1_filter_frequency),
+            friction: FrictionParams {
+                v_reg: self.v(v_reg),
+                eta_oil: self.v(eta_oil),
+                ra: self.v(Ra),
+                x_l: self.v(X_L),
+                e1: self.v(E1),
+                nu1: self.v(nu1),
+                e2: self.v(E2),
+                nu2: self.v(nu2),
+            },
         })
     }
 

@@ -11,27 +11,90 @@ use super::geometry::PairGeometry;
 use super::mesh::{Kinematics, Mesh};
 use nalgebra::Vector3;
 
-/// The friction law: the single seam through which the local friction model enters.
-///
-/// Only Coulomb (constant mu, the paper's law) exists today. A law whose mu depends on
-/// the local sliding/rolling speeds (regularised Coulomb, Benedict-Kelley) replaces
-/// [`line_integrals`] by weighted integrals of the same five shapes (by quadrature) in
-/// [`FrictionLaw::segment_integrals`]; the resultants below stay unchanged.
+pub mod ehl;
+pub mod iso_mean;
+pub mod law_params;
+pub mod regularised;
+
+pub use ehl::{EhlLine, Lubricant};
+pub use iso_mean::{mu_mz, IsoMean};
+pub use law_params::FrictionParams;
+pub use regularised::regularised_integrals;
+
+/// The friction law (FMI parameter `friction_law`): the single seam through which the
+/// local friction model enters. `docs/friction.md` gives each law's formula and source.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum FrictionLaw {
-    /// Coulomb friction with constant mu (`model.md` §4).
+    /// 1: Coulomb friction with constant mu (`model.md` §4), the paper's law.
     #[default]
     Coulomb,
+    /// 2: Coulomb with the sliding direction regularised, `v / sqrt(|v|^2 + v_reg^2)`.
+    RegularisedCoulomb,
+    /// 3: Coulomb with the mean coefficient mu_mz of ISO/TR 14179-2 (Schlenk's formula),
+    /// following the operating point (load, speed) during the run.
+    IsoMean,
+    /// 4: local EHL coefficient mu(s) along every contact line (Xu et al. 2007).
+    LocalEhl,
 }
 
 impl FrictionLaw {
-    /// The five integrals of one segment, per unit of `mu |lambda| / l`.
-    #[inline]
-    pub fn segment_integrals(self, x0: f64, y: f64, kappa: f64, len: f64) -> LineIntegrals {
-        match self {
-            FrictionLaw::Coulomb => line_integrals(x0, y, kappa, len),
+    /// The law from its FMI code 1..=4 (None for any other code).
+    pub fn from_code(code: i32) -> Option<Self> {
+        match code {
+            1 => Some(FrictionLaw::Coulomb),
+            2 => Some(FrictionLaw::RegularisedCoulomb),
+            3 => Some(FrictionLaw::IsoMean),
+            4 => Some(FrictionLaw::LocalEhl),
+            _ => None,
         }
     }
+
+    /// The FMI code 1..=4 of the law.
+    pub fn code(self) -> i32 {
+        match self {
+            FrictionLaw::Coulomb => 1,
+            FrictionLaw::RegularisedCoulomb => 2,
+            FrictionLaw::IsoMean => 3,
+            FrictionLaw::LocalEhl => 4,
+        }
+    }
+
+    /// Whether the friction force jumps where the sliding on a line reverses (the pitch
+    /// line): true for the laws with a sign function (1, 3), false for the regularised
+    /// law (smooth there) and the EHL law (mu(s) -> 0 like |x|^1.036 at the pitch line).
+    pub fn sharp_reversal(self) -> bool {
+        matches!(self, FrictionLaw::Coulomb | FrictionLaw::IsoMean)
+    }
+
+    /// Whether the coefficient depends on the normal force (then lambda needs a scalar
+    /// solve, `model.md` §7): laws 3 and 4.
+    pub fn load_dependent(self) -> bool {
+        matches!(self, FrictionLaw::IsoMean | FrictionLaw::LocalEhl)
+    }
+
+    /// The five integrals of one segment, per unit of `mu |lambda| / l`, for the laws whose
+    /// sums do not depend on parameters (Coulomb; the ISO mean coefficient shares them).
+    #[inline]
+    pub fn segment_integrals(self, x0: f64, y: f64, kappa: f64, len: f64) -> LineIntegrals {
+        line_integrals(x0, y, kappa, len)
+    }
+}
+
+/// The local law along the lines with its parameters for one evaluation (what
+/// [`PairGeometry::friction_sums_line`] integrates).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LineLaw {
+    /// Coulomb, unit coefficient (laws 1 and 3).
+    Coulomb,
+    /// Regularised Coulomb (law 2) with the regularising speed v_reg > 0 (m/s).
+    Regularised {
+        /// v_reg (m/s).
+        v_reg: f64,
+        /// Also accumulate `mu_len` (outputs only: 20 more square roots per line).
+        with_mean: bool,
+    },
+    /// The local EHL coefficient (law 4) at the current line load.
+    Ehl(EhlLine),
 }
 
 /// The five line integrals of one segment (`model.md` §4).
@@ -77,7 +140,7 @@ fn asinh_ratio(x: f64, ay: f64) -> f64 {
 /// Gauss-Legendre 10-point nodes (positive half) on [-1, 1] (QUADPACK qk21's Gauss part),
 /// kept with their published digits.
 #[allow(clippy::excessive_precision)]
-const GL_X: [f64; 5] = [
+pub(crate) const GL_X: [f64; 5] = [
     0.148_874_338_981_631_210_884_826_001_129_720,
     0.433_395_394_129_247_190_799_265_943_165_784,
     0.679_409_568_299_024_406_234_327_365_114_874,
@@ -86,7 +149,7 @@ const GL_X: [f64; 5] = [
 ];
 /// Gauss-Legendre 10-point weights matching [`GL_X`].
 #[allow(clippy::excessive_precision)]
-const GL_W: [f64; 5] = [
+pub(crate) const GL_W: [f64; 5] = [
     0.295_524_224_714_752_870_173_892_994_651_338,
     0.269_266_719_309_996_355_091_226_921_569_469,
     0.219_086_362_515_982_043_995_534_934_228_163,
@@ -98,7 +161,7 @@ const GL_W: [f64; 5] = [
 /// this many half-lengths from the segment midpoint (in s). Then the Bernstein ellipse
 /// parameter is rho >= 4 + sqrt(15) = 7.87 and the 10-point rule errs by ~rho^-20 = 1e-18
 /// relative; closer to the sign change the closed forms are well conditioned.
-const GL_RATIO: f64 = 4.0;
+pub(crate) const GL_RATIO: f64 = 4.0;
 
 /// The five line integrals of `model.md` §4 for `x(s) = x0 - kappa s`, constant `y`,
 /// `0 <= s <= len`, evaluated stably in every regime:
@@ -212,6 +275,9 @@ pub struct FrictionSums {
     pub arm1: Vector3<f64>,
     /// sum over segments of int (P - c2) ds.
     pub arm2: Vector3<f64>,
+    /// int mu_loc(s) ds over all lines per unit scalar coefficient (= l for Coulomb; for
+    /// the regularised law only when asked for, [`regularised::mean_factor`]).
+    pub mu_len: f64,
 }
 
 /// Friction forces, moments and loss for a given normal force (`model.md` §4).
@@ -272,6 +338,23 @@ impl PairGeometry {
         k: &Kinematics,
         law: FrictionLaw,
     ) -> FrictionSums {
+        let _ = law;
+        self.friction_sums_line(m, phi1, psi0, k, &LineLaw::Coulomb)
+    }
+
+    /// [`PairGeometry::friction_sums`] for any local law: the segment integrals come from
+    /// `law` (`mu(s) v_T / |v_T|` weighted, per unit `|lambda| / l` times the scalar
+    /// coefficient of [`FrictionSums::resultants`]). `FrictionSums::mu_len` is
+    /// `int mu_loc(s) ds` per unit scalar coefficient (the load-weighted mean
+    /// coefficient is `mu mu_len / l`). No allocation.
+    pub fn friction_sums_line(
+        &self,
+        m: &Mesh,
+        phi1: f64,
+        psi0: f64,
+        k: &Kinematics,
+        law: &LineLaw,
+    ) -> FrictionSums {
         let (cb, sb) = (self.cos_beta_b, self.sin_beta_b);
         let dv = k.v2 - k.v1;
         // Local components of u2' - u1'.
@@ -291,9 +374,26 @@ impl PairGeometry {
         let mut a1 = [0.0f64; 3];
         let mut a2 = [0.0f64; 3];
         let mut wsum_int = 0.0;
+        let mut mu_len = 0.0;
         let contact = self.for_each_segment(m, phi1, psi0, |seg| {
             let x0 = x_base + wsum * seg.sigma0;
-            let li = law.segment_integrals(x0, y, kappa, seg.length);
+            let li = match law {
+                LineLaw::Coulomb => {
+                    mu_len += seg.length;
+                    line_integrals(x0, y, kappa, seg.length)
+                }
+                LineLaw::Regularised { v_reg, with_mean } => {
+                    if *with_mean {
+                        mu_len += regularised::mean_factor(x0, y, kappa, seg.length, *v_reg);
+                    }
+                    regularised_integrals(x0, y, kappa, seg.length, *v_reg)
+                }
+                LineLaw::Ehl(e) => {
+                    let (li, mu_int) = e.segment_integrals(x0, y, kappa, seg.length, seg.sigma0);
+                    mu_len += mu_int;
+                    li
+                }
+            };
             // F = I_x e_w + I_y c in local components.
             let (gw, gt, gz) = (li.ix, -sb * li.iy, cb * li.iy);
             fw += gw;
@@ -335,6 +435,7 @@ impl PairGeometry {
             w: wsum_int,
             arm1: m.to_inertial(a1[0], a1[1], a1[2]),
             arm2: m.to_inertial(a2[0], a2[1], a2[2]),
+            mu_len,
         }
     }
 }

@@ -11,6 +11,9 @@ mod geometry_repair;
 pub mod mesh;
 
 pub use contact_lines::{ContactSummary, Segment};
-pub use friction::{line_integrals, Friction, FrictionLaw, FrictionSums, LineIntegrals};
+pub use friction::{
+    line_integrals, EhlLine, Friction, FrictionLaw, FrictionParams, FrictionSums, IsoMean,
+    LineIntegrals, LineLaw, Lubricant,
+};
 pub use geometry::{inv, inv_inverse, GearData, PairGeometry, ParamError};
 pub use mesh::{Kinematics, Mesh, MeshError};

@@ -2,10 +2,14 @@
 //! (`model.md` §5-§8).
 
 use super::params::{check_d_phi, check_mu};
-use super::{idx, Inputs, ModelError, Outputs, Params, NY};
-use crate::gear::{FrictionSums, Kinematics, Mesh, MeshError, PairGeometry, ParamError};
+use super::{idx, FrictionLaw, Inputs, ModelError, Outputs, Params, NY};
+use crate::gear::{
+    FrictionSums, IsoMean, Kinematics, Lubricant, Mesh, MeshError, PairGeometry, ParamError,
+};
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::PI;
+
+mod friction;
 
 /// Start state for [`GearedRotor::initialize_with`] (`model.md` §7).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -34,6 +38,10 @@ pub struct GearedRotor {
     stiff: [f64; 7],
     /// Filter corner w_c = 2 pi f_c (§8).
     wc: f64,
+    /// Constant part of friction law 3 (ISO/TR 14179-2 mean coefficient).
+    iso: IsoMean,
+    /// Lubricant and materials of friction law 4.
+    lub: Lubricant,
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -49,7 +57,7 @@ fn mesh_err(t: f64, e: MeshError) -> ModelError {
 }
 
 #[inline]
-fn kinematics(y: &SVector<f64, NY>) -> Kinematics {
+pub(super) fn kinematics(y: &SVector<f64, NY>) -> Kinematics {
     let v = idx::V;
     Kinematics {
         v1: Vector3::new(y[v], y[v + 1], y[v + 2]),
@@ -67,6 +75,17 @@ impl GearedRotor {
     pub fn new(params: Params) -> Result<Self, ParamError> {
         let geom = params.validate()?;
         let (r1, r2) = (params.rotor1, params.rotor2);
+        let fp = params.friction;
+        let iso = IsoMean::new(
+            params.gear.b,
+            geom.rb1,
+            geom.rb2,
+            geom.alpha_wt,
+            geom.cos_beta_b,
+            fp.eta_oil,
+            fp.ra,
+            fp.x_l,
+        );
         Ok(Self {
             params,
             geom,
@@ -85,6 +104,8 @@ impl GearedRotor {
             ],
             stiff: [r1.k[0], r1.k[1], r1.k[2], r2.k[0], r2.k[1], r2.k[2], 0.0],
             wc: 2.0 * PI * params.omega1_filter_hz,
+            iso,
+            lub: fp.lubricant(),
         })
     }
 
@@ -159,7 +180,8 @@ impl GearedRotor {
         self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))
     }
 
-    /// Friction sums (per unit line pressure) of the state y (§4).
+    /// Friction sums (per unit line pressure `|lambda| / l` times the law's scalar
+    /// coefficient, see [`GearedRotor::friction`]) of the state y (§4) at its lambda.
     ///
     /// # Errors
     /// See [`GearedRotor::mesh`]; [`ModelError::NoContact`] when l = 0.
@@ -169,17 +191,8 @@ impl GearedRotor {
         y: &SVector<f64, NY>,
         m: &Mesh,
     ) -> Result<FrictionSums, ModelError> {
-        let s = self.geom.friction_sums(
-            m,
-            y[idx::PHI1],
-            self.params.psi0,
-            &kinematics(y),
-            self.params.friction_law,
-        );
-        if !(s.contact.length > 0.0) {
-            return Err(ModelError::NoContact { t });
-        }
-        Ok(s)
+        self.friction(t, y, m, y[idx::LAMBDA], false)
+            .map(|(s, _)| s)
     }
 
     /// Right-hand side f(t, y) of `M_ext y' = f` (`model.md` §5, §8, energy states of model.md §6).
@@ -204,9 +217,9 @@ impl GearedRotor {
     ) -> Result<(), ModelError> {
         let g = &self.geom;
         let m = self.mesh(t, y)?;
-        let sums = self.friction_sums(t, y, &m)?;
         let lam = y[idx::LAMBDA];
-        let fr = sums.resultants(self.params.mu, lam);
+        let (sums, mu) = self.friction(t, y, &m, lam, false)?;
+        let fr = sums.resultants(mu, lam);
         let grow = g.constraint_row(&m);
         let v = idx::V;
         let omega1 = y[idx::OMEGA1];
@@ -282,9 +295,8 @@ impl GearedRotor {
         let g = &self.geom;
         let (v, lam_i) = (idx::V, idx::LAMBDA);
         let m = self.mesh(t, y)?;
-        let sums = self.friction_sums(t, y, &m)?;
         let lam = y[lam_i];
-        let mu = self.params.mu;
+        let (sums, mu) = self.friction(t, y, &m, lam, false)?;
         let fr = sums.resultants(mu, lam);
         let grow = g.constraint_row(&m);
         let (cb, rb1, rb2) = (g.cos_beta_b, g.rb1, g.rb2);
@@ -354,13 +366,22 @@ impl GearedRotor {
             0.0
         };
         let l = sums.contact.length;
-        let pu = mu / l; // d p / d|lambda|
-        let gu = sums.generalised_unit();
-        for i in 0..7 {
-            jac[(v + i, lam_i)] += sgn * pu * gu[i];
+        if self.params.friction_law == FrictionLaw::LocalEhl {
+            self.friction_lambda_column(t, y, &m, &fr, jac)?;
+        } else {
+            // d p / d|lambda|; law 3: p = mu_mz |lambda| / l with mu_mz ~ |lambda|^0.2.
+            let pu = if self.params.friction_law == FrictionLaw::IsoMean {
+                1.2 * mu / l
+            } else {
+                mu / l
+            };
+            let gu = sums.generalised_unit();
+            for i in 0..7 {
+                jac[(v + i, lam_i)] += sgn * pu * gu[i];
+            }
+            jac[(idx::E_IN, lam_i)] += -sgn * pu * sums.moment1.z * omega1;
+            jac[(idx::E_LOSS, lam_i)] = sgn * pu * sums.w;
         }
-        jac[(idx::E_IN, lam_i)] += -sgn * pu * sums.moment1.z * omega1;
-        jac[(idx::E_LOSS, lam_i)] = sgn * pu * sums.w;
         // Friction derivatives by one-sided differences of the friction evaluation only.
         let base = [
             fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
@@ -398,8 +419,8 @@ impl GearedRotor {
             yp[j] = yj + h;
             let h = yp[j] - yj;
             let mp = if j < 6 { self.mesh(t, &yp)? } else { m };
-            let sp = self.friction_sums(t, &yp, &mp)?;
-            let frp = sp.resultants(mu, lam);
+            let (sp, mup) = self.friction(t, &yp, &mp, lam, false)?;
+            let frp = sp.resultants(mup, lam);
             let pert = [
                 frp.f1.x, frp.f1.y, frp.f1.z, frp.f2.x, frp.f2.y, frp.f2.z, -frp.m2.z,
             ];
@@ -449,6 +470,9 @@ impl GearedRotor {
         m: &Mesh,
         sums: &FrictionSums,
     ) -> Result<f64, ModelError> {
+        if self.params.friction_law.load_dependent() {
+            return self.consistent_lambda_solve(t, y, m);
+        }
         let g = &self.geom;
         let m = *m;
         let grow = g.constraint_row(&m);
@@ -608,9 +632,10 @@ impl GearedRotor {
     /// Every output of `model.md` §6 from the state and the inputs at t. When the mesh
     /// cannot be evaluated the contact quantities are NaN.
     pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
-        let res = self
-            .mesh(t, y)
-            .and_then(|m| self.friction_sums(t, y, &m).map(|s| (m, s)));
+        let res = self.mesh(t, y).and_then(|m| {
+            self.friction(t, y, &m, y[idx::LAMBDA], true)
+                .map(|(s, mu)| (m, s, mu))
+        });
         self.outputs_with(y, res)
     }
 
@@ -618,24 +643,32 @@ impl GearedRotor {
     /// decided ([`GearedRotor::consistent_lambda`]; else the lambda of y), evaluating the
     /// mesh and the friction sums once for both (they do not depend on lambda).
     pub fn outputs_consistent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
-        let res = self
-            .mesh(t, y)
-            .and_then(|m| self.friction_sums(t, y, &m).map(|s| (m, s)));
+        let res = self.mesh(t, y).and_then(|m| {
+            self.friction(t, y, &m, y[idx::LAMBDA], true)
+                .map(|(s, mu)| (m, s, mu))
+        });
         let mut z = *y;
-        if let Ok((m, sums)) = &res {
+        if let Ok((m, sums, _)) = &res {
             if let Ok(l) = self.consistent_lambda_with(t, y, m, sums) {
                 if l.is_finite() {
                     z[idx::LAMBDA] = l;
                 }
             }
         }
+        // Laws 3 and 4: the friction follows the new lambda.
+        let res = match res {
+            Ok((m, _, _)) if self.params.friction_law.load_dependent() => self
+                .friction(t, &z, &m, z[idx::LAMBDA], true)
+                .map(|(s, mu)| (m, s, mu)),
+            r => r,
+        };
         self.outputs_with(&z, res)
     }
 
     fn outputs_with(
         &self,
         y: &SVector<f64, NY>,
-        res: Result<(Mesh, FrictionSums), ModelError>,
+        res: Result<(Mesh, FrictionSums, f64), ModelError>,
     ) -> Outputs {
         let g = &self.geom;
         let v = idx::V;
@@ -675,13 +708,15 @@ impl GearedRotor {
             o.f_bearing1[i] = self.stiff[i] * y[i] + self.damp[i] * y[v + i];
             o.f_bearing2[i] = self.stiff[3 + i] * y[3 + i] + self.damp[3 + i] * y[v + 3 + i];
         }
-        let (m, sums) = match res {
+        let (m, sums, mu) = match res {
             Ok(x) => x,
             Err(_) => {
                 let nan = f64::NAN;
                 o.t1 = nan;
                 o.p_in = nan;
                 o.p_loss = nan;
+                o.mu_eff = nan;
+                o.mu_mz = nan;
                 o.gap = nan;
                 o.contact_length = if matches!(res, Err(ModelError::NoContact { .. })) {
                     0.0
@@ -700,7 +735,9 @@ impl GearedRotor {
                 return o;
             }
         };
-        let fr = sums.resultants(self.params.mu, lam);
+        let fr = sums.resultants(mu, lam);
+        o.mu_eff = self.mean_coefficient(&sums, mu);
+        o.mu_mz = self.iso.mu(lam, omega1, omega2);
         o.t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;
         o.p_in = o.t1 * omega1;
         o.p_loss = fr.p_loss;

@@ -166,6 +166,10 @@ pub struct Outputs {
     pub p_in: f64,
     /// Friction loss.
     pub p_loss: f64,
+    /// Load-weighted mean friction coefficient along the lines (`1/l int mu_loc ds`).
+    pub mu_eff: f64,
+    /// ISO/TR 14179-2 mean coefficient at the current load and speed (law 3's mu).
+    pub mu_mz: f64,
     /// Damper power d_phi omega2^2 + u'^T D u'.
     pub p_damp: f64,
     /// Energy states.

@@ -1,6 +1,6 @@
 //! Parameters and held inputs of the geared rotor (`model.md` §5, §10).
 
-use crate::gear::{FrictionLaw, GearData, PairGeometry, ParamError};
+use crate::gear::{FrictionLaw, FrictionParams, GearData, PairGeometry, ParamError};
 
 /// Mass data of one rotor (`model.md` §5).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,6 +34,8 @@ pub struct Params {
     pub friction_law: FrictionLaw,
     /// Corner frequency of the drive-speed filter (`model.md` §8), Hz.
     pub omega1_filter_hz: f64,
+    /// Parameters of friction laws 2-4 (v_reg, lubricant, roughness, materials).
+    pub friction: FrictionParams,
 }
 
 impl Default for Params {
@@ -58,6 +60,7 @@ impl Default for Params {
             psi0: 0.0,
             friction_law: FrictionLaw::Coulomb,
             omega1_filter_hz: 1000.0,
+            friction: FrictionParams::default(),
         }
     }
 }
@@ -118,6 +121,7 @@ impl Params {
             self.omega1_filter_hz,
             "0 < omega1_filter_frequency < inf",
         )?;
+        self.friction.validate()?;
         Ok(g)
     }
 }

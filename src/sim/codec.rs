@@ -8,7 +8,8 @@ use std::fmt;
 pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// Layout version; bump when the payload layout changes.
 /// 2: the FMU time (look-ahead) after the last successful time; RADAU5 snapshot v2.
-/// 3: `h_fixed` (real-time mode) after the FMU time; after the solver bytes the
+/// 3: `h_fixed` (real-time mode) after the FMU time; the friction law (code 1..=4) and its
+///    eight parameters after the filter frequency; after the solver bytes the
 ///    initialization code, its initial state (non-rest starts) and the validity monitor.
 pub const VERSION: u32 = 3;
 

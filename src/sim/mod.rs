@@ -34,7 +34,7 @@ pub mod realtime;
 pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
 
 use crate::fmt_num::Short;
-use crate::gear::{GearData, ParamError};
+use crate::gear::{FrictionParams, GearData, ParamError};
 use crate::radau5::{
     self, Options, Problem, Radau5, Retake, RhsError, Snapshot, Statistics, Tolerance,
 };
@@ -1013,6 +1013,13 @@ impl Simulation {
         } else {
             g.rb1 * m.alpha.tan()
         };
+        // Laws without a sign jump at the reversal (regularised, EHL): no event there
+        // (a NaN phase is never the nearest event).
+        let sigma_rev = if model.params().friction_law.sharp_reversal() {
+            sigma_rev
+        } else {
+            f64::NAN
+        };
         let sig = [m.sigma_a, sigma_rev, m.sigma_e];
         Some((s_ph, sig.map(|s| [s + w[0], s + w[1]])))
     }
@@ -1302,10 +1309,14 @@ fn write_params(w: &mut Writer, p: &Params) {
     w.f64(p.d_phi);
     w.f64(p.mu);
     w.f64(p.psi0);
-    w.i32(match p.friction_law {
-        FrictionLaw::Coulomb => 1,
-    });
+    w.i32(p.friction_law.code());
     w.f64(p.omega1_filter_hz);
+    let fp = &p.friction;
+    for x in [
+        fp.v_reg, fp.eta_oil, fp.ra, fp.x_l, fp.e1, fp.nu1, fp.e2, fp.nu2,
+    ] {
+        w.f64(x);
+    }
 }
 
 fn read_params(r: &mut Reader) -> Result<Params, DecodeError> {
@@ -1346,15 +1357,27 @@ fn read_params(r: &mut Reader) -> Result<Params, DecodeError> {
     let d_phi = r.finite("d_phi")?;
     let mu = r.finite("mu")?;
     let psi0 = r.finite("psi0")?;
-    let friction_law = match r.i32("friction_law")? {
-        1 => FrictionLaw::Coulomb,
-        k => {
-            return Err(DecodeError {
-                message: format!("unknown friction law {k}"),
-            })
-        }
+    let code = r.i32("friction_law")?;
+    let Some(friction_law) = FrictionLaw::from_code(code) else {
+        return Err(DecodeError {
+            message: format!("unknown friction law {code}"),
+        });
     };
     let omega1_filter_hz = r.finite("omega1_filter_frequency")?;
+    let mut fp = [0.0; 8];
+    for x in fp.iter_mut() {
+        *x = r.finite("friction law parameters")?;
+    }
+    let friction = FrictionParams {
+        v_reg: fp[0],
+        eta_oil: fp[1],
+        ra: fp[2],
+        x_l: fp[3],
+        e1: fp[4],
+        nu1: fp[5],
+        e2: fp[6],
+        nu2: fp[7],
+    };
     Ok(Params {
         gear,
         rotor1: rot[0],
@@ -1364,6 +1387,7 @@ fn read_params(r: &mut Reader) -> Result<Params, DecodeError> {
         psi0,
         friction_law,
         omega1_filter_hz,
+        friction,
     })
 }
 

@@ -129,20 +129,41 @@ contact (A: tip of gear 2, E: tip of gear 1); C is the pitch point. Working pres
 <h2>Limits of validity</h2>
 <ul>
 <li>Rigid teeth with perfect involute flanks; the only compliance is in the bearings.</li>
-<li>Single-flank contact: <code>contact_lost</code> becomes true when <code>Fn &lt; 0</code> (the teeth would lift
-off, logged under <code>logEvents</code>); results after that are outside the model.</li>
+<li>Single-flank contact: when <code>Fn &lt; 0</code> (the teeth would lift off) or the drive speed is no longer
+positive, <code>contact_lost</code> or the message says so and <code>fmi2DoStep</code> returns <code>fmi2Warning</code>
+once per episode (<code>on_lift_off</code> = discard: <code>fmi2Discard</code> at the located instant); results after
+that are outside the model (<a href="validity.md">validity.md</a>).</li>
 <li>Gear data (model.md &sect;2): z1, z2 &ge; 5; m_n &gt; 0; 0 &lt; alpha_n &lt; 45 deg; |beta| &lt; 45 deg; b &gt; 0;
 no interference (0 &le; sigma_A, sigma_E &le; a_w sin alpha_wt); sigma_A &lt; sigma_E; eps_alpha + eps_beta &gt; 1;
 tip radii above the base radii. A refused set is reported in <code>fmi2ExitInitializationMode</code> with
 <code>fmi2Error</code>, naming the parameter that repairs it alone and its limit (e.g. z1 = 10 with the other
 defaults: &ldquo;z1 &gt;= 13, x1 &gt;= 0.2002, h_aP &lt;= 0.7653&rdquo;).</li>
 <li>The axes stay parallel to z; tilting moments are reported, not applied.</li>
-<li>Coulomb friction with constant mu (<code>friction_law</code> = 1); no start-up from standstill.</li>
+<li>Friction: law 1 (Coulomb, constant mu) has no start-up from standstill (the sliding direction is undefined at zero
+speed; law 2 regularises it). Laws 3 and 4 are empirical fits, valid in their fitted ranges (see &ldquo;Friction
+laws&rdquo;).</li>
 <li>The centre distance must stay above r_b1 + r_b2; when the solver cannot continue, <code>fmi2DoStep</code> returns
 <code>fmi2Discard</code> and the state is the one at <code>fmi2LastSuccessfulTime</code>.</li>
 <li>Accuracy: RADAU5 with the tolerance of <code>fmi2SetupExperiment</code> (else <code>rtol</code>), absolute
 tolerances rtol times physical scales per state, internal step at most <code>h_max</code>.</li>
 </ul>
+<h2>Friction laws (parameter <code>friction_law</code>)</h2>
+<p>The friction force per unit length of contact line is <code>-mu_loc q v_T/|v_T|</code> with the line load
+<code>q = |Fn| / contact_length</code> and the sliding velocity <code>v_T</code> in the tangent plane. Output
+<code>mu_eff</code>: the mean of mu_loc along the lines; <code>mu_mz</code>: the ISO/TR 14179-2 coefficient at the
+current load and speed. Formulas, sources, units and ranges: <a href="friction.md">friction.md</a>.</p>
+<ol>
+<li>Coulomb: <code>mu_loc = mu</code> (default).</li>
+<li>Regularised Coulomb: <code>v_T/|v_T|</code> replaced by <code>v_T/sqrt(|v_T|^2 + v_reg^2)</code>
+(<code>v_reg</code> [m/s]).</li>
+<li>Mean coefficient of ISO/TR 14179-2 (Schlenk's formula): <code>mu_mz</code> from the transverse load per face width,
+the sum speed and the equivalent radius of curvature at the pitch point, <code>eta_oil</code>, <code>Ra</code> and
+<code>X_L</code>.</li>
+<li>Local EHL coefficient along the lines (Xu, Kahraman, Anderson, Maddock 2007, fitted for a 75W90 gear oil) from the
+local Hertzian pressure, slide-to-roll ratio, entraining speed, radius of curvature, <code>eta_oil</code> and
+<code>Ra</code>; <code>E1</code>, <code>nu1</code>, <code>E2</code>, <code>nu2</code> give the Hertzian pressure.</li>
+</ol>
+<p>For laws 3 and 4 the coefficient depends on the contact force, which is then found by a scalar solve.</p>
 <h2>Variables</h2>
 <p>Values in SI units as in modelDescription.xml; in brackets the same value in the display unit.
 min and max are the declared bounds (inclusive); 1e-300 stands for &ldquo;greater than 0&rdquo;.</p>

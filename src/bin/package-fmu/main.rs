@@ -34,6 +34,7 @@ const RADAU5_MD: &str = include_str!("../../../docs/radau5.md");
 const FMU_MD: &str = include_str!("../../../docs/fmu.md");
 const VALIDITY_MD: &str = include_str!("../../../docs/validity.md");
 const DRIVETRAIN_MD: &str = include_str!("../../../docs/drivetrain.md");
+const FRICTION_MD: &str = include_str!("../../../docs/friction.md");
 const SKETCH_SVG: &str = include_str!("../../../docs/figures/geared_rotor.svg");
 const LICENSE: &str = include_str!("../../../LICENSE");
 const RADAU5_REFERENCE_MD: &str = include_str!("../../../data/radau5/reference.md");
@@ -111,6 +112,7 @@ fn run() -> Result<PathBuf, String> {
         ("documentation/fmu.md", text(FMU_MD), 0o644),
         ("documentation/validity.md", text(VALIDITY_MD), 0o644),
         ("documentation/drivetrain.md", text(DRIVETRAIN_MD), 0o644),
+        ("documentation/friction.md", text(FRICTION_MD), 0o644),
         // radau5.md cites the Fortran figures it is compared with
         (
             "documentation/reference.md",

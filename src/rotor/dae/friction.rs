@@ -1,0 +1,187 @@
+//! The friction law seen from the DAE: which local law and which scalar coefficient a
+//! state gets (`docs/friction.md`), the lambda column of the Jacobian for law 4, and the
+//! consistent lambda of the load-dependent laws 3 and 4 by a scalar solve.
+
+use super::{kinematics, GearedRotor};
+use crate::gear::{EhlLine, Friction, FrictionLaw, FrictionSums, LineLaw, Mesh};
+use crate::rotor::{idx, ModelError, NY};
+use nalgebra::{SMatrix, SVector};
+
+impl GearedRotor {
+    /// The friction sums of the state y at the normal force `lam` and the scalar
+    /// coefficient that multiplies them in [`FrictionSums::resultants`]:
+    /// law 1 and 2: mu (the sums carry the regularisation for law 2); law 3: mu_mz of
+    /// ISO/TR 14179-2 at |lam| and the speeds; law 4: 1 (the sums carry mu(s) at the line
+    /// load |lam| / l). `for_outputs` also integrates the regularised law's mean
+    /// coefficient (law 2's `mu_len`; not needed in f). No allocation.
+    ///
+    /// # Errors
+    /// [`ModelError::NoContact`] when l = 0.
+    pub fn friction(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        lam: f64,
+        for_outputs: bool,
+    ) -> Result<(FrictionSums, f64), ModelError> {
+        let k = kinematics(y);
+        let (phi1, psi0) = (y[idx::PHI1], self.params.psi0);
+        let g = &self.geom;
+        let (line, mu) = match self.params.friction_law {
+            FrictionLaw::Coulomb => (LineLaw::Coulomb, self.params.mu),
+            FrictionLaw::RegularisedCoulomb => (
+                LineLaw::Regularised {
+                    v_reg: self.params.friction.v_reg,
+                    with_mean: for_outputs,
+                },
+                self.params.mu,
+            ),
+            FrictionLaw::IsoMean => (LineLaw::Coulomb, self.iso.mu(lam, k.omega1, k.omega2)),
+            FrictionLaw::LocalEhl => {
+                let l = g.contact_summary(m, phi1, psi0).length;
+                if !(l > 0.0) {
+                    return Err(ModelError::NoContact { t });
+                }
+                let e = EhlLine::new(
+                    &self.lub,
+                    lam.abs() / l,
+                    k.omega1,
+                    k.omega2,
+                    m.len_t1t2,
+                    g.cos_beta_b,
+                    g.sin_beta_b,
+                );
+                (LineLaw::Ehl(e), 1.0)
+            }
+        };
+        let s = g.friction_sums_line(m, phi1, psi0, &k, &line);
+        if !(s.contact.length > 0.0) {
+            return Err(ModelError::NoContact { t });
+        }
+        Ok((s, mu))
+    }
+
+    /// Load-weighted mean coefficient `1/l int mu_loc ds` of sums from
+    /// [`GearedRotor::friction`] (with `for_outputs`) and their scalar coefficient.
+    pub(super) fn mean_coefficient(&self, sums: &FrictionSums, mu: f64) -> f64 {
+        match self.params.friction_law {
+            FrictionLaw::Coulomb | FrictionLaw::IsoMean => mu,
+            _ => mu * sums.mu_len / sums.contact.length,
+        }
+    }
+
+    /// Law 4: d(friction terms of f)/d(lambda) by a one-sided difference of the friction
+    /// evaluation (mu(s) depends on the line load through the Hertzian pressure), added
+    /// to the lambda column (rows of v, E_in, E_loss).
+    pub(super) fn friction_lambda_column(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        fr: &Friction,
+        jac: &mut SMatrix<f64, NY, NY>,
+    ) -> Result<(), ModelError> {
+        let (v, lam_i) = (idx::V, idx::LAMBDA);
+        let lam = y[lam_i];
+        let lp = lam + f64::EPSILON.sqrt() * lam.abs().max(1.0);
+        let h = lp - lam;
+        let (sp, mup) = self.friction(t, y, m, lp, false)?;
+        let frp = sp.resultants(mup, lp);
+        let base = [
+            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
+        ];
+        let pert = [
+            frp.f1.x, frp.f1.y, frp.f1.z, frp.f2.x, frp.f2.y, frp.f2.z, -frp.m2.z,
+        ];
+        for i in 0..7 {
+            jac[(v + i, lam_i)] += (pert[i] - base[i]) / h;
+        }
+        jac[(idx::E_IN, lam_i)] += -(frp.m1.z - fr.m1.z) / h * y[idx::OMEGA1];
+        jac[(idx::E_LOSS, lam_i)] = (frp.p_loss - fr.p_loss) / h;
+        Ok(())
+    }
+
+    /// Consistent lambda for the load-dependent laws 3 and 4: the hidden
+    /// constraint reads `h(lambda) = lambda A + G M^-1 Q_f(lambda) - r = 0` with A, r as
+    /// in [`GearedRotor::consistent_lambda`]; Q_f uses |lambda| itself, so any root is
+    /// consistent (no sign assumption). Secant iteration from the frictionless
+    /// `r / A` and its friction-linearised correction, until the step is below 2 ulp:
+    /// the residual is then at round-off. Typically 4-6 friction evaluations.
+    ///
+    /// # Errors
+    /// Mesh/contact errors; [`ModelError::InconsistentLambda`] when the iteration does
+    /// not converge (friction so strong that h is not monotone, Painlevé-type).
+    pub(super) fn consistent_lambda_solve(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+    ) -> Result<f64, ModelError> {
+        let g = &self.geom;
+        let grow = g.constraint_row(m);
+        let kin = kinematics(y);
+        let v = idx::V;
+        let t_load = self.inputs.t_load_at(t);
+        let (mut a, mut r) = (0.0, 0.0);
+        for i in 0..7 {
+            let mut force = -self.damp[i] * y[v + i] - self.stiff[i] * y[i];
+            if i == 6 {
+                force -= t_load;
+            }
+            a += grow[i] * grow[i] / self.mass[i];
+            r -= grow[i] * force / self.mass[i];
+        }
+        r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(m, &kin);
+        let h = |lam: f64| -> Result<f64, ModelError> {
+            let (s, mu) = self.friction(t, y, m, lam, false)?;
+            let fr = s.resultants(mu, lam);
+            let q = [
+                fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
+            ];
+            let mut phi = 0.0;
+            for i in 0..7 {
+                phi += grow[i] * q[i] / self.mass[i];
+            }
+            Ok(lam * a + phi - r)
+        };
+        if r == 0.0 {
+            return Ok(0.0);
+        }
+        let mut l0 = r / a;
+        let mut h0 = h(l0)?;
+        if h0 == 0.0 {
+            return Ok(l0);
+        }
+        // h(l0) = phi(l0): friction as an effective slope phi(l0)/l0.
+        let mut l1 = r / (a + h0 / l0);
+        for _ in 0..60 {
+            let h1 = h(l1)?;
+            if h1 == 0.0 {
+                return Ok(l1);
+            }
+            let slope = (h1 - h0) / (l1 - l0);
+            if !(slope.is_finite() && slope != 0.0) {
+                // h flat to round-off between two iterates that already agree.
+                if (l1 - l0).abs() <= 1e-12 * l1.abs() {
+                    return Ok(l1);
+                }
+                break;
+            }
+            let l2 = l1 - h1 / slope;
+            (l0, h0) = (l1, h1);
+            l1 = l2;
+            if !l1.is_finite() {
+                break;
+            }
+            if (l1 - l0).abs() <= 2.0 * f64::EPSILON * l1.abs() {
+                return Ok(l1);
+            }
+        }
+        Err(ModelError::InconsistentLambda {
+            t,
+            lambda_pos: l1,
+            lambda_neg: l0,
+        })
+    }
+}
