@@ -29,7 +29,17 @@ MEANING = {
     "psi0": "initial mesh phase in base pitches (only the fractional part matters)",
     "m1": "mass of rotor 1", "J1": "polar inertia of rotor 1", "m2": "mass of rotor 2",
     "J2": "polar inertia of rotor 2", "d_phi": "rotational damper on gear 2 (tunable)",
-    "mu": "Coulomb friction coefficient (tunable)", "friction_law": "1 = Coulomb",
+    "mu": "Coulomb friction coefficient of laws 1 and 2 (tunable)",
+    "friction_law": "1 Coulomb; 2 regularised Coulomb; 3 ISO/TR 14179-2 mean coefficient; "
+                    "4 local EHL coefficient (docs/friction.md)",
+    "initialization": "1 rest, 2 static_equilibrium, 3 periodic (Enumeration; see below)",
+    "on_lift_off": "1 warn, 2 discard, when Fn < 0 or the drive reverses (Enumeration)",
+    "max_internal_steps": "most internal steps per doStep, then fmi2Discard (tunable)",
+    "h_fixed": "real-time mode: fixed internal step bound; 0 = adaptive (see below)",
+    "v_reg": "regularising speed of law 2", "eta_oil": "dynamic viscosity of the oil (laws 3, 4)",
+    "Ra": "mean flank roughness (laws 3, 4)", "X_L": "lubricant factor of ISO/TR 14179-2 (law 3)",
+    "E1": "Young's modulus of gear 1 (law 4)", "nu1": "Poisson's ratio of gear 1 (law 4)",
+    "E2": "Young's modulus of gear 2 (law 4)", "nu2": "Poisson's ratio of gear 2 (law 4)",
     "omega1_filter_frequency": "corner frequency of the omega1 filter",
     "rtol": "RADAU5 relative tolerance (fmi2SetupExperiment overrides)", "h_max": "largest internal step",
 }
