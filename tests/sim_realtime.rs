@@ -180,3 +180,71 @@ fn internal_step_divides_the_communication_step() {
         assert_eq!(r.stats.naccpt, 1, "doStep at {t}");
     }
 }
+
+/// The real-time mode keeps the model's validity watch and the work bound of the adaptive
+/// mode: a load that makes the teeth lift off is reported once (Warn) or stops the doStep
+/// at the located instant (Discard), where the adaptive mode locates it too; a doStep that
+/// needs more internal steps than `max_internal_steps` stops where it got.
+#[test]
+fn real_time_mode_reports_lift_off_and_honours_the_work_bound() {
+    use geared_rotor::sim::{OnViolation, ViolationKind};
+    let h = 1e-4;
+    // Warn: one episode, reported in the doStep in which the load turns around.
+    let mut s = sim(1e-6, 2.5e-5);
+    for k in 0..20 {
+        s.do_step(k as f64 * h, h).unwrap();
+    }
+    // Fn falls through zero ~0.25 ms after the load turns around (from 3339 N).
+    s.set_input(Input::TLoad, -200.0).unwrap();
+    let mut seen = Vec::new();
+    for k in 20..30 {
+        let r = s.do_step(k as f64 * h, h).unwrap();
+        seen.extend(r.violations.iter().flatten().map(|v| (k, *v)));
+    }
+    assert_eq!(seen.len(), 1, "one episode, reported once: {seen:?}");
+    let (k, v) = seen[0];
+    assert_eq!(v.kind, ViolationKind::LiftOff);
+    assert!(v.value < 0.0, "{v:?}");
+    assert!(
+        (k as f64 * h..=(k + 1) as f64 * h).contains(&v.t),
+        "{v:?} in doStep {k}"
+    );
+
+    // Discard: the FMU time is the located instant, the same instant the adaptive mode
+    // finds for the same run (both locate the sign change of Fn to ~1e-12 s).
+    let located = |h_fixed: f64| {
+        let mut s = sim(1e-8, h_fixed);
+        s.set_on_violation(OnViolation::Discard);
+        for k in 0..20 {
+            s.do_step(k as f64 * h, h).unwrap();
+        }
+        s.set_input(Input::TLoad, -200.0).unwrap();
+        for k in 20..30 {
+            match s.do_step(k as f64 * h, h) {
+                Ok(_) => continue,
+                Err(SimError::Validity(v)) => {
+                    assert_eq!(s.last_successful_time(), v.t);
+                    return v.t;
+                }
+                Err(e) => panic!("expected a validity stop, got {e}"),
+            }
+        }
+        panic!("no lift-off found")
+    };
+    let (t_rt, t_ad) = (located(2.5e-5), located(0.0));
+    assert!(
+        (t_rt - t_ad).abs() < 1e-7,
+        "real-time {t_rt} vs adaptive {t_ad}"
+    );
+
+    // Work bound: 4 internal steps needed, 2 allowed.
+    let mut s = sim(1e-6, 2.5e-5);
+    s.set_max_internal_steps(2);
+    match s.do_step(0.0, h) {
+        Err(SimError::WorkLimit { limit: 2, t, .. }) => {
+            assert!((t - 5e-5).abs() < 1e-15, "stopped at {t}");
+            assert_eq!(s.last_successful_time(), t);
+        }
+        other => panic!("expected the work limit, got {other:?}"),
+    }
+}

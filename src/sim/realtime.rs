@@ -91,7 +91,7 @@ impl Simulation {
         let n = internal_steps(t_end - t, self.h_fixed, slack);
         let h = (t_end - t) / n as f64;
         // Progress (radau5.f's rule, as in the adaptive loop): t must resolve the step.
-        if !(h > super::STEP_RESOLUTION * t.abs()) {
+        if h.is_nan() || h <= super::STEP_RESOLUTION * t.abs() {
             let e = crate::radau5::Error::StepSizeTooSmall { t, h };
             return fail(self, solver_err(e, t));
         }
