@@ -137,7 +137,7 @@ def plot(out: Path, t, res, a: float, b: float, t_m: float, title: str, steady_f
         unit = MICRO if name == "TE" else "N"
         ax.set_ylabel(f"{name} amplitude [{unit}]")
         ax.grid(True, lw=0.3)
-        ax.text(0.99, 0.9, f"mean {amp[0]:.4g} {unit}", transform=ax.transAxes, ha="right", fontsize=8)
+        ax.text(0.99, 0.9, f"mean {y.mean():.4g} {unit}", transform=ax.transAxes, ha="right", fontsize=8)
     axes[-1].set_xlabel(f"order (multiples of the mesh frequency {1 / t_m:.1f} Hz); "
                         f"window {n_per} mesh periods, resolution 1/{n_per} order")
     note = "" if steady_from_start else "; lines between the orders: the bearing vibration still decaying"
