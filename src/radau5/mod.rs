@@ -57,6 +57,7 @@ mod snapshot;
 mod snapshot_check;
 mod state;
 mod stats;
+mod step_size;
 mod stepper;
 pub mod tableau;
 #[doc(hidden)]

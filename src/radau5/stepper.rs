@@ -11,6 +11,7 @@ use nalgebra::{Complex, SMatrix, SVector};
 use super::linalg::{ComplexLu, RealLu};
 use super::options::{transform_tolerances, Params};
 use super::state::{Action, State};
+use super::step_size::quarter_power;
 use super::tableau::{Tableau, T, TI};
 use super::{Error, Options, Problem, RhsError, Statistics, Tolerance};
 
@@ -1087,20 +1088,30 @@ impl<const N: usize> Radau5<N> {
                 if newt >= nit {
                     break 'newton Err(Some(Failure::Newton));
                 }
+                // All three stages are evaluated and counted even when one of them is not
+                // finite, as in radau5.f (which has no finiteness check: NFCN += 3, the
+                // solve, DYNO, and then the convergence test rejects); see below.
+                let mut f_nonfinite = false;
                 cont.copy_from(&s.y);
                 cont += &z1;
-                if let Err(e) = eval(problem, t + tab.c1 * h, &cont, &mut a1) {
-                    break 'newton Err(Some(e));
+                match eval(problem, t + tab.c1 * h, &cont, &mut a1) {
+                    Ok(()) => {}
+                    Err(Failure::NonFinite) => f_nonfinite = true,
+                    Err(e) => break 'newton Err(Some(e)),
                 }
                 cont.copy_from(&s.y);
                 cont += &z2;
-                if let Err(e) = eval(problem, t + tab.c2 * h, &cont, &mut a2) {
-                    break 'newton Err(Some(e));
+                match eval(problem, t + tab.c2 * h, &cont, &mut a2) {
+                    Ok(()) => {}
+                    Err(Failure::NonFinite) => f_nonfinite = true,
+                    Err(e) => break 'newton Err(Some(e)),
                 }
                 cont.copy_from(&s.y);
                 cont += &z3;
-                if let Err(e) = eval(problem, xph, &cont, &mut a3) {
-                    break 'newton Err(Some(e));
+                match eval(problem, xph, &cont, &mut a3) {
+                    Ok(()) => {}
+                    Err(Failure::NonFinite) => f_nonfinite = true,
+                    Err(e) => break 'newton Err(Some(e)),
                 }
                 s.stats.nfcn += 3;
                 for i in 0..N {
@@ -1145,7 +1156,15 @@ impl<const N: usize> Radau5<N> {
                     dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
                 }
                 dyno = (dyno / (3 * N) as f64).sqrt();
-                if !dyno.is_finite() {
+                // A non-finite f (or increment) rejects the attempt after its 3 f calls and
+                // its solve have been counted. For 1 < NEWT < NIT this is radau5.f's own
+                // path: DYNO is inf or NaN, so THETA = DYNO/DYNOLD (or its geometric mean
+                // with THQOLD) is not < 0.99 and it jumps to label 78 (h halved, an
+                // unexpected rejection). In the first and the NIT-th iteration the Fortran
+                // has no convergence test and would carry the NaN on into the error
+                // estimate; here the attempt is rejected the same way instead (docs/radau5.md
+                // §7, "non-finite f").
+                if f_nonfinite || !dyno.is_finite() {
                     break 'newton Err(Some(Failure::NonFinite));
                 }
                 if newt > 1 && newt < nit {
@@ -1250,9 +1269,7 @@ impl<const N: usize> Radau5<N> {
 
             // ---- new step size; 0.2 <= h_new/h <= 8
             let fac = p.safe.min(cfac / f64::from(newt + 2 * nit));
-            // err^0.25 as two square roots (pow costs ~4 times as much; the counters of all
-            // 26 reference rows are unchanged, tests/radau5_parity.rs).
-            let mut quot = p.facr.max(p.facl.min(err.sqrt().sqrt() / fac));
+            let mut quot = p.facr.max(p.facl.min(quarter_power(err) / fac));
             let mut hnew = h / quot;
 
             if err < 1.0 {
@@ -1277,7 +1294,7 @@ impl<const N: usize> Radau5<N> {
                     // Predictive controller of Gustafsson
                     if s.naccpt_local > 1 {
                         let mut facgus =
-                            (s.h_acc / h) * (err * err / s.err_acc).sqrt().sqrt() / p.safe;
+                            (s.h_acc / h) * quarter_power(err * err / s.err_acc) / p.safe;
                         facgus = p.facr.max(p.facl.min(facgus));
                         quot = quot.max(facgus);
                         hnew = h / quot;

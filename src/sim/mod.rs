@@ -27,9 +27,9 @@
 mod closed_loop;
 pub mod codec;
 pub mod init;
-pub mod validity;
-mod validate;
 pub mod realtime;
+mod validate;
+pub mod validity;
 
 pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
 
