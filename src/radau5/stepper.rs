@@ -11,7 +11,7 @@ use nalgebra::{Complex, SMatrix, SVector};
 use super::linalg::{ComplexLu, RealLu};
 use super::options::{transform_tolerances, Params};
 use super::state::{Action, State};
-use super::step_size::quarter_power;
+use super::step_size::{gustafsson_quotient, step_quotient};
 use super::tableau::{Tableau, T, TI};
 use super::{Error, Options, Problem, RhsError, Statistics, Tolerance};
 
@@ -1269,7 +1269,7 @@ impl<const N: usize> Radau5<N> {
 
             // ---- new step size; 0.2 <= h_new/h <= 8
             let fac = p.safe.min(cfac / f64::from(newt + 2 * nit));
-            let mut quot = p.facr.max(p.facl.min(quarter_power(err) / fac));
+            let mut quot = step_quotient(err, fac, p.facr, p.facl);
             let mut hnew = h / quot;
 
             if err < 1.0 {
@@ -1293,10 +1293,9 @@ impl<const N: usize> Radau5<N> {
                 if p.pred && !clean_clip {
                     // Predictive controller of Gustafsson
                     if s.naccpt_local > 1 {
-                        let mut facgus =
-                            (s.h_acc / h) * quarter_power(err * err / s.err_acc) / p.safe;
-                        facgus = p.facr.max(p.facl.min(facgus));
-                        quot = quot.max(facgus);
+                        quot = gustafsson_quotient(
+                            quot, s.h_acc, h, err, s.err_acc, p.safe, p.facr, p.facl,
+                        );
                         hnew = h / quot;
                     }
                     s.h_acc = h;
