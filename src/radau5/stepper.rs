@@ -1078,7 +1078,11 @@ impl<const N: usize> Radau5<N> {
 
             // ---- simplified Newton iteration (radau5.md §4)
             let mut newt: u32 = 0;
-            s.faccon = s.faccon.max(p.uround).powf(0.8);
+            // FACCON = MAX(FACCON,UROUND)**0.8 (radau5.f), by the same pow, but only when
+            // its value is needed: the first iteration's convergence test (unless a bound
+            // already decides it), or the end of the iteration. Most attempts overwrite it
+            // with THETA/(1-THETA) in their second iteration first.
+            let mut faccon_pending = Some(s.faccon.max(p.uround));
             s.theta = p.thet.abs();
             let mut cont = SVector::<f64, N>::zeros();
             let mut a1 = SVector::<f64, N>::zeros();
@@ -1177,6 +1181,7 @@ impl<const N: usize> Radau5<N> {
                     s.thqold = thq;
                     if s.theta < 0.99 {
                         s.faccon = s.theta / (1.0 - s.theta);
+                        faccon_pending = None;
                         let dyth =
                             s.faccon * dyno * s.theta.powi((nit - 1 - newt) as i32) / p.fnewt;
                         if dyth >= 1.0 {
@@ -1203,10 +1208,23 @@ impl<const N: usize> Radau5<N> {
                     z2[i] = T[1][0] * f1i + T[1][1] * f2i + T[1][2] * f3i;
                     z3[i] = T[2][0] * f1i + f2i;
                 }
-                if s.faccon * dyno <= p.fnewt {
+                let converged = match faccon_pending {
+                    // base^0.8 >= min(base, 1): clearly not converged whatever the pow gives.
+                    Some(base) if base.min(1.0) * dyno * (1.0 - 1e-12) > p.fnewt => false,
+                    Some(base) => {
+                        s.faccon = base.powf(0.8);
+                        faccon_pending = None;
+                        s.faccon * dyno <= p.fnewt
+                    }
+                    None => s.faccon * dyno <= p.fnewt,
+                };
+                if converged {
                     break 'newton Ok(());
                 }
             };
+            if let Some(base) = faccon_pending {
+                s.faccon = base.powf(0.8);
+            }
             match newton {
                 Ok(()) => {}
                 Err(Some(kind)) => unexpected!(kind),
