@@ -1094,28 +1094,25 @@ impl<const N: usize> Radau5<N> {
                 }
                 // All three stages are evaluated and counted even when one of them is not
                 // finite, as in radau5.f (which has no finiteness check: NFCN += 3, the
-                // solve, DYNO, and then the convergence test rejects); see below.
-                let mut f_nonfinite = false;
+                // solve, DYNO, and then the convergence test rejects). f is not checked
+                // here: a NaN or inf in any F_k reaches every transformed component it
+                // enters (T^-1 has no zero entry), survives the solves (0*inf is NaN too)
+                // and makes DYNO, a sum of squares over all components, non-finite; the
+                // test on DYNO below catches it.
                 cont.copy_from(&s.y);
                 cont += &z1;
-                match eval(problem, t + tab.c1 * h, &cont, &mut a1) {
-                    Ok(()) => {}
-                    Err(Failure::NonFinite) => f_nonfinite = true,
-                    Err(e) => break 'newton Err(Some(e)),
+                if let Err(e) = problem.rhs(t + tab.c1 * h, &cont, &mut a1) {
+                    break 'newton Err(Some(Failure::Rhs(e)));
                 }
                 cont.copy_from(&s.y);
                 cont += &z2;
-                match eval(problem, t + tab.c2 * h, &cont, &mut a2) {
-                    Ok(()) => {}
-                    Err(Failure::NonFinite) => f_nonfinite = true,
-                    Err(e) => break 'newton Err(Some(e)),
+                if let Err(e) = problem.rhs(t + tab.c2 * h, &cont, &mut a2) {
+                    break 'newton Err(Some(Failure::Rhs(e)));
                 }
                 cont.copy_from(&s.y);
                 cont += &z3;
-                match eval(problem, xph, &cont, &mut a3) {
-                    Ok(()) => {}
-                    Err(Failure::NonFinite) => f_nonfinite = true,
-                    Err(e) => break 'newton Err(Some(e)),
+                if let Err(e) = problem.rhs(xph, &cont, &mut a3) {
+                    break 'newton Err(Some(Failure::Rhs(e)));
                 }
                 s.stats.nfcn += 3;
                 for i in 0..N {
@@ -1168,7 +1165,7 @@ impl<const N: usize> Radau5<N> {
                 // has no convergence test and would carry the NaN on into the error
                 // estimate; here the attempt is rejected the same way instead (docs/radau5.md
                 // §7, "non-finite f").
-                if f_nonfinite || !dyno.is_finite() {
+                if !dyno.is_finite() {
                     break 'newton Err(Some(Failure::NonFinite));
                 }
                 if newt > 1 && newt < nit {
