@@ -11,7 +11,9 @@
 //!
 //! Modules: [`tableau`] (constants), [`options`] (defaults and validation), [`linalg`]
 //! (DECSOL-style LU), `step_size` (`err^0.25` as radau5.f computes it), `stepper`
-//! (RADCOR as a state machine, dense output), `state`
+//! (RADCOR as a state machine, dense output), `step_phases` (one step in the phases of
+//! RADCOR: step-size choice, matrices, Newton iteration, error estimate, accept/reject),
+//! `state`
 //! (everything kept between steps), `snapshot` (copy and bytes), `stats`, `error`.
 //!
 //! # Where it differs from `RADCOR`, and why
@@ -63,6 +65,7 @@ mod snapshot;
 mod snapshot_check;
 mod state;
 mod stats;
+mod step_phases;
 mod step_size;
 mod stepper;
 pub mod tableau;
