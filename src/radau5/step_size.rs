@@ -4,8 +4,8 @@
 //! `(ERR**2/ERRACC)**0.25D0` (`RADCOR`, after the error estimate). gfortran at -O2 without
 //! fast-math compiles a real exponent to a call of the C library's `pow` (only
 //! `-funsafe-math-optimizations` would turn `x**0.25` into two square roots); Rust's
-//! `f64::powf` lowers to the same `pow`. On glibc that `pow` is the correctly rounded one
-//! in practice (glibc 2.28+, worst error 0.52 ulp), so ours rounds exactly as the
+//! `f64::powf` lowers to the same `pow` (glibc 2.28+: nearly correctly rounded, worst
+//! error about 0.52 ulp), so ours rounds exactly as the
 //! Fortran's on the same machine. `sqrt(sqrt(x))` rounds twice: it differs from `pow` by one
 //! ulp for about an eighth of the arguments (test below), and a one-ulp difference in h can
 //! flip a later accept/reject or Jacobian-reuse decision of a sensitive problem.
@@ -17,7 +17,7 @@ pub(super) fn quarter_power(x: f64) -> f64 {
 }
 
 /// Relative margin by which an estimate of `x^0.25` must clear a decision before the
-/// decision is taken without `pow`. `pow` (glibc: below 0.52 ulp) and two correctly
+/// decision is taken without `pow`. `pow` (glibc: about 0.52 ulp at worst) and two correctly
 /// rounded square roots (below 1 ulp together) differ by at most a few ulps, ~1e-15
 /// relative; 1e-12 leaves room for the division and multiplications around them.
 const DECIDED: f64 = 1e-12;
