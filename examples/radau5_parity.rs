@@ -75,6 +75,16 @@ fn main() {
         if let Some(e) = out.err_lambda {
             line.push_str(&format!(",\"err_lambda\":{e:.3e}"));
         }
+        // The errors to the three digits reference.md gives them.
+        let digits = |x: f64| format!("{x:.2e}");
+        let mut err_equal = digits(out.max_abs_err) == digits(r.fortran_err);
+        if let (Some(a), Some(b)) = (out.err_lambda, r.fortran_err_lambda) {
+            err_equal &= digits(a) == digits(b);
+        }
+        line.push_str(&format!(
+            ",\"fortran_max_abs_err\":{:.2e},\"err_equal_fortran_3_digits\":{err_equal}",
+            r.fortran_err
+        ));
         line.push_str(&format!(
             ",\"counters_equal_fortran\":{},\"fortran_seconds_per_solve\":{:.3e},\"time_ratio_vs_fortran\":{:.2}",
             s == r.fortran,

@@ -1,6 +1,7 @@
 //! Counter parity with the Fortran RADAU5 (`radau5.f` 2002, gfortran -O2) on every row of
 //! `reference.md` (issue 3, test 2): the seven counters must be equal and the error
-//! against the reference solution within a factor 2 of the Fortran's.
+//! against the reference solution equal to the Fortran's in the three digits the file
+//! gives (and so within a factor 2 of it).
 //!
 //! All 26 rows match exactly. (Round-off: amp1t is written with the literal coefficients
 //! 0.01 and 0.99 of `reference.md`; writing `1 - 0.99` instead changes the last bits of f
@@ -9,6 +10,14 @@
 
 use geared_rotor::radau5::test_problems::{all_rows, run_row};
 
+/// The error rounded to the three significant digits `reference.md` gives. With the
+/// Fortran's arithmetic (err^0.25 by `pow`) all 26 rows agree to these digits; with
+/// `sqrt(sqrt(err))` five rows (rob at t_end 1e11, rtol 1e-6..1e-10; amp1t at 1e-4 and
+/// 1e-10) do not, although their counters are equal.
+fn same_digits(ours: f64, fortran: f64) -> bool {
+    format!("{ours:.2e}") == format!("{fortran:.2e}")
+}
+
 #[test]
 fn counters_and_errors_match_fortran() {
     let mut failures = Vec::new();
@@ -16,9 +25,9 @@ fn counters_and_errors_match_fortran() {
         let out = run_row(&r).expect("solve");
         let ok_counters = out.stats == r.fortran;
         let ratio = out.max_abs_err / r.fortran_err;
-        let ok_err = (0.5..=2.0).contains(&ratio);
+        let ok_err = (0.5..=2.0).contains(&ratio) && same_digits(out.max_abs_err, r.fortran_err);
         let ok_lambda = match (out.err_lambda, r.fortran_err_lambda) {
-            (Some(a), Some(b)) => (0.5..=2.0).contains(&(a / b)),
+            (Some(a), Some(b)) => (0.5..=2.0).contains(&(a / b)) && same_digits(a, b),
             _ => true,
         };
         println!(

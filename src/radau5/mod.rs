@@ -10,7 +10,10 @@
 //! construction (fixed-size nalgebra storage, static dispatch on the [`Problem`] type).
 //!
 //! Modules: [`tableau`] (constants), [`options`] (defaults and validation), [`linalg`]
-//! (DECSOL-style LU), `stepper` (RADCOR as a state machine, dense output), `state`
+//! (DECSOL-style LU), `step_size` (`err^0.25` as radau5.f computes it), `stepper`
+//! (RADCOR as a state machine, dense output), `step_phases` (one step in the phases of
+//! RADCOR: step-size choice, matrices, Newton iteration, error estimate, accept/reject),
+//! `state`
 //! (everything kept between steps), `snapshot` (copy and bytes), `stats`, `error`.
 //!
 //! # Where it differs from `RADCOR`, and why
@@ -32,7 +35,12 @@
 //! - f at the end of an accepted step is evaluated before the step is committed, so a
 //!   failing f there shrinks h like a Newton failure.
 //! - f returning `Err` or non-finite values, and non-finite Newton increments, count as
-//!   Newton failures (h halved); 10 in a row end the step with [`Error::Rhs`] /
+//!   Newton failures (h halved). A non-finite f inside the Newton iteration is counted as
+//!   the Fortran counts it (the iteration's 3 calls and its solve, then h halved: its
+//!   THETA >= 0.99 path from the second iteration on); in the first and the last
+//!   iteration, where the Fortran has no convergence test and would carry the NaN into
+//!   the error estimate, the attempt is rejected the same way (docs/radau5.md §7).
+//!   10 in a row end the step with [`Error::Rhs`] /
 //!   [`Error::NonFinite`], 20 unexpected failures in a row with [`Error::NewtonFailure`]
 //!   (the Fortran relies on "step size too small", which can not trigger at t = 0).
 //!   Singular LU pairs are counted since the last accepted step (the Fortran never resets
@@ -57,6 +65,8 @@ mod snapshot;
 mod snapshot_check;
 mod state;
 mod stats;
+mod step_phases;
+mod step_size;
 mod stepper;
 pub mod tableau;
 #[doc(hidden)]

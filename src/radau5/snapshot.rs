@@ -7,7 +7,6 @@
 
 use nalgebra::{Complex, SMatrix, SVector};
 
-use super::linalg::{ComplexLu, RealLu};
 use super::options::Params;
 use super::state::{Action, State};
 use super::stepper::Radau5;
@@ -302,46 +301,7 @@ fn zero_state<const N: usize>() -> State<N> {
         quot2: 0.0,
         resume: 0.0,
     });
-    State {
-        params,
-        has_mass: false,
-        mass: SMatrix::zeros(),
-        t: 0.0,
-        y: SVector::zeros(),
-        t_prev: 0.0,
-        y_prev: SVector::zeros(),
-        f_prev: SVector::zeros(),
-        f0: SVector::zeros(),
-        f0_valid: false,
-        h_next: 0.0,
-        h_old: 0.0,
-        h_lu: 0.0,
-        hhfac: 0.0,
-        h_acc: 0.0,
-        err_acc: 0.0,
-        faccon: 0.0,
-        theta: 0.0,
-        dynold: 0.0,
-        thqold: 0.0,
-        scal: SVector::zeros(),
-        cont: [SVector::zeros(); 4],
-        xsol: 0.0,
-        hsol: 0.0,
-        jac: SMatrix::zeros(),
-        lu1: RealLu::zeros(),
-        lu2: ComplexLu::zeros(),
-        first: true,
-        reject: false,
-        caljac: false,
-        jac_valid: false,
-        lu_valid: false,
-        prev_clipped: false,
-        action: Action::Jacobian,
-        nsing: 0,
-        naccpt_local: 0,
-        steps_since_stop: 0,
-        stats: Statistics::default(),
-    }
+    State::fresh(params, None, 0.0, SVector::zeros(), 0.0)
 }
 
 impl<const N: usize> Snapshot<N> {

@@ -92,3 +92,61 @@ pub(crate) struct State<const N: usize> {
     pub steps_since_stop: u64,
     pub stats: Statistics,
 }
+
+impl<const N: usize> State<N> {
+    /// A solver that has taken no step yet, at `(t, y)` with the step size `h` to try
+    /// first: the state after `RADCOR`'s initialisation (FACCON = 1, THETA = |THET|, no
+    /// Jacobian, zero counters), with f(t, y) not evaluated yet (`f0_valid` false) and the
+    /// dense output the constant y. `mass = None` is the identity. The one place a fresh
+    /// state is built: [`super::Radau5::new`], an explicit restart (which then keeps what
+    /// it keeps) and the reading of a snapshot (which overwrites every field).
+    pub fn fresh(
+        params: Params<N>,
+        mass: Option<SMatrix<f64, N, N>>,
+        t: f64,
+        y: SVector<f64, N>,
+        h: f64,
+    ) -> Self {
+        let zero = SVector::zeros();
+        State {
+            params,
+            has_mass: mass.is_some(),
+            mass: mass.unwrap_or_else(SMatrix::identity),
+            t,
+            y,
+            t_prev: t,
+            y_prev: y,
+            f_prev: zero,
+            f0: zero,
+            f0_valid: false,
+            h_next: h,
+            h_old: h,
+            h_lu: h,
+            hhfac: h,
+            h_acc: 0.0,
+            err_acc: 0.0,
+            faccon: 1.0,
+            theta: params.thet.abs(),
+            dynold: 0.0,
+            thqold: 0.0,
+            scal: zero,
+            cont: [y, zero, zero, zero],
+            xsol: t,
+            hsol: h,
+            jac: SMatrix::zeros(),
+            lu1: RealLu::zeros(),
+            lu2: ComplexLu::zeros(),
+            first: true,
+            reject: false,
+            caljac: false,
+            jac_valid: false,
+            lu_valid: false,
+            prev_clipped: false,
+            action: Action::Jacobian,
+            nsing: 0,
+            naccpt_local: 0,
+            steps_since_stop: 0,
+            stats: Statistics::default(),
+        }
+    }
+}

@@ -10,19 +10,19 @@ use nalgebra::{Complex, SMatrix, SVector};
 
 use super::linalg::{ComplexLu, RealLu};
 use super::options::{transform_tolerances, Params};
-use super::state::{Action, State};
-use super::tableau::{Tableau, T, TI};
+use super::state::State;
+use super::tableau::Tableau;
 use super::{Error, Options, Problem, RhsError, Statistics, Tolerance};
 
 /// Consecutive failures of f (an `Err` or non-finite values) within one step after which
 /// the step gives up (each failure halves h like a Newton failure).
-const MAX_RHS_FAILURES: u32 = 10;
+pub(super) const MAX_RHS_FAILURES: u32 = 10;
 /// Consecutive unexpected rejections (Newton divergence, singular LU, failing f) within
 /// one step after which the step gives up with [`Error::NewtonFailure`]. The Fortran has no
 /// such limit (it relies on "step size too small", which never triggers at t = 0).
-const MAX_UNEXPECTED: u32 = 20;
+pub(super) const MAX_UNEXPECTED: u32 = 20;
 /// Singular LU pairs in a row -> [`Error::SingularMatrix`] (`NSING >= 5` in `RADCOR`).
-const MAX_SINGULAR: u32 = 5;
+pub(super) const MAX_SINGULAR: u32 = 5;
 
 /// How [`Radau5::retake`] reached its stop time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -369,7 +369,7 @@ impl<const N: usize> MassPattern<N> {
 }
 
 /// Why an attempt failed "unexpectedly" (the Fortran's label 78).
-enum Failure {
+pub(super) enum Failure {
     Newton,
     Singular,
     Rhs(RhsError),
@@ -378,7 +378,7 @@ enum Failure {
 
 /// Evaluates f and checks it for NaN/inf.
 #[inline]
-fn eval<P: Problem<N>, const N: usize>(
+pub(super) fn eval<P: Problem<N>, const N: usize>(
     problem: &mut P,
     t: f64,
     y: &SVector<f64, N>,
@@ -433,46 +433,7 @@ impl<const N: usize> Radau5<N> {
         };
         let tab = Tableau::new();
         let h = params.h_init;
-        let mut st = State {
-            params,
-            has_mass: mass.is_some(),
-            mass: mass.unwrap_or_else(SMatrix::identity),
-            t: t0,
-            y: y0,
-            t_prev: t0,
-            y_prev: y0,
-            f_prev: SVector::zeros(),
-            f0: SVector::zeros(),
-            f0_valid: false,
-            h_next: h,
-            h_old: h,
-            h_lu: h,
-            hhfac: h,
-            h_acc: 0.0,
-            err_acc: 0.0,
-            faccon: 1.0,
-            theta: params.thet.abs(),
-            dynold: 0.0,
-            thqold: 0.0,
-            scal: SVector::zeros(),
-            cont: [y0, SVector::zeros(), SVector::zeros(), SVector::zeros()],
-            xsol: t0,
-            hsol: h,
-            jac: SMatrix::zeros(),
-            lu1: RealLu::zeros(),
-            lu2: ComplexLu::zeros(),
-            first: true,
-            reject: false,
-            caljac: false,
-            jac_valid: false,
-            lu_valid: false,
-            prev_clipped: false,
-            action: Action::Jacobian,
-            nsing: 0,
-            naccpt_local: 0,
-            steps_since_stop: 0,
-            stats: Statistics::default(),
-        };
+        let mut st = State::fresh(params, mass, t0, y0, h);
         let mut f0 = SVector::zeros();
         let r = eval(problem, t0, &y0, &mut f0);
         st.stats.nfcn += 1;
@@ -491,7 +452,7 @@ impl<const N: usize> Radau5<N> {
 
     /// Maps a failed evaluation of f at an accepted point (start, restart, after a stop
     /// time) to the typed error: there is no step to shrink there.
-    fn point_eval_error(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
+    pub(super) fn point_eval_error(r: Result<(), Failure>, t: f64, h: f64) -> Result<(), Error> {
         match r {
             Ok(()) => Ok(()),
             Err(Failure::Rhs(e)) => Err(Error::Rhs {
@@ -592,38 +553,37 @@ impl<const N: usize> Radau5<N> {
                 });
             }
         }
-        let s = &mut self.st;
         let mut f0 = SVector::zeros();
-        let r = eval(problem, s.t, &y, &mut f0);
-        s.stats.nfcn += 1;
-        Self::point_eval_error(r, s.t, s.h_next)?;
-        s.y = y;
+        let r = eval(problem, self.st.t, &y, &mut f0);
+        self.st.stats.nfcn += 1;
+        Self::point_eval_error(r, self.st.t, self.st.h_next)?;
+        let old = &self.st;
+        // A fresh start at (t, y) (treated like the Fortran's first step; the old
+        // collocation polynomial does not pass through the new y, so the dense output is
+        // the constant y until the next step) that keeps the counters, J and the LU pair
+        // (both marked stale), and the step-size history the first step does not read.
+        let mut s = State::fresh(
+            old.params,
+            old.has_mass.then_some(old.mass),
+            old.t,
+            y,
+            h.unwrap_or(old.h_next),
+        );
+        s.stats = old.stats;
+        s.jac = old.jac;
+        s.lu1 = old.lu1;
+        s.lu2 = old.lu2;
+        s.h_old = old.h_old;
+        s.h_lu = old.h_lu;
+        s.hhfac = old.hhfac;
+        s.dynold = old.dynold;
+        s.thqold = old.thqold;
+        s.scal = old.scal;
+        s.hsol = old.hsol;
         s.f0 = f0;
         s.f0_valid = true;
-        if let Some(h) = h {
-            s.h_next = h;
-        }
-        s.first = true;
-        s.reject = false;
-        s.caljac = false;
-        s.jac_valid = false;
-        s.lu_valid = false;
-        s.prev_clipped = false;
-        s.action = Action::Jacobian;
-        s.faccon = 1.0;
-        s.theta = s.params.thet.abs();
-        s.naccpt_local = 0;
-        s.h_acc = 0.0;
-        s.err_acc = 0.0;
-        s.nsing = 0;
-        s.steps_since_stop = 0;
-        // The old collocation polynomial does not pass through the new y: output the
-        // constant y until the next step.
-        s.cont = [y, SVector::zeros(), SVector::zeros(), SVector::zeros()];
-        s.xsol = s.t;
-        s.t_prev = s.t;
-        s.y_prev = s.y;
-        s.f_prev = s.f0;
+        s.f_prev = f0;
+        self.st = s;
         Ok(())
     }
 
@@ -850,508 +810,9 @@ impl<const N: usize> Radau5<N> {
         Ok(())
     }
 
-    /// One accepted step towards `t_stop`; never passes `t_stop` and lands on it exactly
-    /// when it is within reach (radau5.md §5 "the last step lands exactly on it", applied to
-    /// every stop time). When the stop time shortens a step that then succeeds without
-    /// trouble, the controller's unclipped proposal is kept for the following step, so a
-    /// sequence of tiny stop intervals costs about one step each. Returns the new t.
-    ///
-    /// # Errors
-    /// [`Error::StopTimeBehind`], [`Error::StepSizeTooSmall`], [`Error::TooManySteps`],
-    /// [`Error::SingularMatrix`], [`Error::NewtonFailure`], [`Error::NonFinite`],
-    /// [`Error::Rhs`]; the state is then that of the failed attempt (not meant to continue).
-    pub fn step<P: Problem<N>>(&mut self, problem: &mut P, t_stop: f64) -> Result<f64, Error> {
-        if t_stop.is_nan() || t_stop < self.st.t {
-            return Err(Error::StopTimeBehind {
-                t: self.st.t,
-                t_stop,
-            });
-        }
-        if t_stop == self.st.t {
-            return Ok(self.st.t);
-        }
-        // A stop time within a few ulps of t (a master's rounded communication point) can not
-        // be reached by a step (h would fail the "step size too small" test): snap onto it.
-        if t_stop - self.st.t <= 4.0 * f64::EPSILON * self.st.t.abs().max(t_stop.abs()) {
-            self.st.t = t_stop;
-            self.st.steps_since_stop = 0;
-            return Ok(t_stop);
-        }
-        let p = self.st.params;
-        let tab = self.tab;
-        let nit = p.nit;
-        let t = self.st.t;
-
-        if !self.st.f0_valid {
-            let mut f0 = SVector::zeros();
-            let r = eval(problem, t, &self.st.y, &mut f0);
-            self.st.stats.nfcn += 1;
-            Self::point_eval_error(r, t, self.st.h_next)?;
-            self.st.f0 = f0;
-            self.st.f0_valid = true;
-        }
-
-        // ---- step-size decision (end of the accepted branch of RADCOR / initialisation)
-        let mut h;
-        let mut last;
-        let h_planned;
-        {
-            let s = &mut self.st;
-            if s.first {
-                // Initialisation: H = min(|H|, HMAXN); the last step if x + 1.0001 h >= xend.
-                h_planned = s.h_next.min(p.h_max);
-                h = h_planned.min(t_stop - t);
-                last = false;
-                if t + h * 1.0001 >= t_stop {
-                    h = t_stop - t;
-                    last = true;
-                }
-                s.action = Action::Jacobian;
-            } else {
-                let hnew = s.h_next;
-                h_planned = hnew;
-                let reuse_j = s.theta <= p.thet && s.jac_valid;
-                if t + hnew / p.quot1 >= t_stop {
-                    h = t_stop - t;
-                    last = true;
-                    // The Fortran always refactors before its last step. Between two stop
-                    // times of (nearly) the same spacing, reuse the LU pair instead.
-                    let qt = h / s.h_lu;
-                    let reuse_lu = s.prev_clipped
-                        && s.lu_valid
-                        && qt >= p.quot1 * (1.0 - 1e-6)
-                        && qt <= p.quot2;
-                    s.action = if !reuse_j {
-                        Action::Jacobian
-                    } else if reuse_lu {
-                        Action::Step
-                    } else {
-                        Action::Decompose
-                    };
-                } else {
-                    last = false;
-                    let qt = hnew / s.h_old;
-                    if reuse_j && qt >= p.quot1 && qt <= p.quot2 && s.lu_valid {
-                        h = s.h_old;
-                        s.action = Action::Step;
-                    } else {
-                        h = hnew;
-                        s.action = if reuse_j {
-                            Action::Decompose
-                        } else {
-                            Action::Jacobian
-                        };
-                    }
-                }
-            }
-            s.hhfac = h;
-            // SCAL from the current y (identical to the Fortran's recomputation after the
-            // accepted step); the index-2/3 division by HHFAC follows per attempt.
-            for i in 0..N {
-                s.scal[i] = p.atol[i] + p.rtol[i] * s.y[i].abs();
-            }
-        }
-
-        let mut n_unexpected = 0u32;
-        let mut n_rhs = 0u32;
-        let mut n_nonfinite = 0u32;
-        let cfac = p.safe * f64::from(1 + 2 * nit);
-
-        // Label 78 of RADCOR: halve h and try again (not counted as a rejection).
-        macro_rules! unexpected {
-            ($kind:expr) => {{
-                let s = &mut self.st;
-                match $kind {
-                    Failure::Singular => {
-                        s.nsing += 1;
-                        if s.nsing >= MAX_SINGULAR {
-                            return Err(Error::SingularMatrix { t, h });
-                        }
-                    }
-                    Failure::Rhs(e) => {
-                        n_rhs += 1;
-                        if n_rhs >= MAX_RHS_FAILURES {
-                            return Err(Error::Rhs {
-                                t,
-                                h,
-                                message: e.message,
-                            });
-                        }
-                    }
-                    Failure::NonFinite => {
-                        n_nonfinite += 1;
-                        if n_nonfinite >= MAX_RHS_FAILURES {
-                            return Err(Error::NonFinite { t, h });
-                        }
-                    }
-                    Failure::Newton => {}
-                }
-                n_unexpected += 1;
-                if n_unexpected >= MAX_UNEXPECTED {
-                    return Err(Error::NewtonFailure { t, h });
-                }
-                h *= 0.5;
-                s.hhfac = 0.5;
-                s.reject = true;
-                last = false;
-                s.action = if s.caljac {
-                    Action::Decompose
-                } else {
-                    Action::Jacobian
-                };
-                continue;
-            }};
-        }
-
-        loop {
-            // ---- label 10: Jacobian
-            if self.st.action == Action::Jacobian {
-                self.compute_jacobian(problem, h)?;
-                self.st.caljac = true;
-                self.st.jac_valid = true;
-                self.st.action = Action::Decompose;
-            }
-            // ---- label 20: LU pair
-            if self.st.action == Action::Decompose {
-                if self.decompose(h).is_err() {
-                    unexpected!(Failure::Singular);
-                }
-                self.st.action = Action::Step;
-            }
-            // ---- label 30: the attempt
-            let pat = &self.pattern;
-            let blk = &self.blocks;
-            let s = &mut self.st;
-            s.stats.nstep += 1;
-            s.steps_since_stop += 1;
-            if s.steps_since_stop > p.nmax {
-                return Err(Error::TooManySteps {
-                    t,
-                    h,
-                    max_steps: p.nmax,
-                });
-            }
-            if 0.1 * h.abs() <= t.abs() * p.uround {
-                return Err(Error::StepSizeTooSmall { t, h });
-            }
-            for i in p.n1..p.n1 + p.n2 {
-                s.scal[i] /= s.hhfac;
-            }
-            for i in p.n1 + p.n2..N {
-                s.scal[i] /= s.hhfac * s.hhfac;
-            }
-            let xph = if last { t_stop } else { t + h };
-            let fac1 = tab.gamma / h;
-            let alphn = tab.alpha / h;
-            let betan = tab.beta / h;
-
-            // ---- starting values for Newton
-            let mut z1 = SVector::<f64, N>::zeros();
-            let mut z2 = SVector::<f64, N>::zeros();
-            let mut z3 = SVector::<f64, N>::zeros();
-            let mut f1 = SVector::<f64, N>::zeros();
-            let mut f2 = SVector::<f64, N>::zeros();
-            let mut f3 = SVector::<f64, N>::zeros();
-            let c3q = h / s.h_old;
-            // A ratio above 1/facr never occurs in the Fortran (h_new <= h/facr); it
-            // appears here only after a step shortened by a stop time, where extrapolating
-            // the tiny step's polynomial would be wild: start from zero instead.
-            if !(s.first || p.startn || c3q > 1.0 / p.facr) {
-                let c1q = tab.c1 * c3q;
-                let c2q = tab.c2 * c3q;
-                for i in 0..N {
-                    let ak1 = s.cont[1][i];
-                    let ak2 = s.cont[2][i];
-                    let ak3 = s.cont[3][i];
-                    let z1i = c1q * (ak1 + (c1q - tab.c2m1) * (ak2 + (c1q - tab.c1m1) * ak3));
-                    let z2i = c2q * (ak1 + (c2q - tab.c2m1) * (ak2 + (c2q - tab.c1m1) * ak3));
-                    let z3i = c3q * (ak1 + (c3q - tab.c2m1) * (ak2 + (c3q - tab.c1m1) * ak3));
-                    z1[i] = z1i;
-                    z2[i] = z2i;
-                    z3[i] = z3i;
-                    f1[i] = TI[0][0] * z1i + TI[0][1] * z2i + TI[0][2] * z3i;
-                    f2[i] = TI[1][0] * z1i + TI[1][1] * z2i + TI[1][2] * z3i;
-                    f3[i] = TI[2][0] * z1i + TI[2][1] * z2i + TI[2][2] * z3i;
-                }
-            }
-
-            // ---- simplified Newton iteration (radau5.md §4)
-            let mut newt: u32 = 0;
-            s.faccon = s.faccon.max(p.uround).powf(0.8);
-            s.theta = p.thet.abs();
-            let mut cont = SVector::<f64, N>::zeros();
-            let mut a1 = SVector::<f64, N>::zeros();
-            let mut a2 = SVector::<f64, N>::zeros();
-            let mut a3 = SVector::<f64, N>::zeros();
-            let newton: Result<(), Option<Failure>> = 'newton: loop {
-                if newt >= nit {
-                    break 'newton Err(Some(Failure::Newton));
-                }
-                cont.copy_from(&s.y);
-                cont += &z1;
-                if let Err(e) = eval(problem, t + tab.c1 * h, &cont, &mut a1) {
-                    break 'newton Err(Some(e));
-                }
-                cont.copy_from(&s.y);
-                cont += &z2;
-                if let Err(e) = eval(problem, t + tab.c2 * h, &cont, &mut a2) {
-                    break 'newton Err(Some(e));
-                }
-                cont.copy_from(&s.y);
-                cont += &z3;
-                if let Err(e) = eval(problem, xph, &cont, &mut a3) {
-                    break 'newton Err(Some(e));
-                }
-                s.stats.nfcn += 3;
-                for i in 0..N {
-                    let (x1, x2, x3) = (a1[i], a2[i], a3[i]);
-                    z1[i] = TI[0][0] * x1 + TI[0][1] * x2 + TI[0][2] * x3;
-                    z2[i] = TI[1][0] * x1 + TI[1][1] * x2 + TI[1][2] * x3;
-                    z3[i] = TI[2][0] * x1 + TI[2][1] * x2 + TI[2][2] * x3;
-                }
-                // SLVRAD
-                if s.has_mass {
-                    for i in 0..N {
-                        let (mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0);
-                        for &j in pat.row(i) {
-                            let bb = s.mass[(i, j)];
-                            s1 -= bb * f1[j];
-                            s2 -= bb * f2[j];
-                            s3 -= bb * f3[j];
-                        }
-                        z1[i] += s1 * fac1;
-                        z2[i] = z2[i] + s2 * alphn - s3 * betan;
-                        z3[i] = z3[i] + s3 * alphn + s2 * betan;
-                    }
-                } else {
-                    for i in 0..N {
-                        let s2 = -f2[i];
-                        let s3 = -f3[i];
-                        z1[i] -= f1[i] * fac1;
-                        z2[i] = z2[i] + s2 * alphn - s3 * betan;
-                        z3[i] = z3[i] + s3 * alphn + s2 * betan;
-                    }
-                }
-                blk.solve1(&s.lu1, &s.jac, fac1, &mut z1);
-                blk.solve2(&s.lu2, &s.jac, (alphn, betan), &mut z2, &mut z3);
-                s.stats.nsol += 1;
-                newt += 1;
-                let mut dyno = 0.0;
-                for i in 0..N {
-                    let denom = s.scal[i];
-                    let q1 = z1[i] / denom;
-                    let q2 = z2[i] / denom;
-                    let q3 = z3[i] / denom;
-                    dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
-                }
-                dyno = (dyno / (3 * N) as f64).sqrt();
-                if !dyno.is_finite() {
-                    break 'newton Err(Some(Failure::NonFinite));
-                }
-                if newt > 1 && newt < nit {
-                    let thq = dyno / s.dynold;
-                    if newt == 2 {
-                        s.theta = thq;
-                    } else {
-                        s.theta = (thq * s.thqold).sqrt();
-                    }
-                    s.thqold = thq;
-                    if s.theta < 0.99 {
-                        s.faccon = s.theta / (1.0 - s.theta);
-                        let dyth =
-                            s.faccon * dyno * s.theta.powi((nit - 1 - newt) as i32) / p.fnewt;
-                        if dyth >= 1.0 {
-                            // Predicted non-convergence: restart with a smaller h (not a
-                            // rejection).
-                            let qnewt = 1.0e-4f64.max(20.0f64.min(dyth));
-                            s.hhfac = 0.8
-                                * qnewt.powf(-1.0 / (4.0 + f64::from(nit) - 1.0 - f64::from(newt)));
-                            break 'newton Err(None);
-                        }
-                    } else {
-                        break 'newton Err(Some(Failure::Newton));
-                    }
-                }
-                s.dynold = dyno.max(p.uround);
-                for i in 0..N {
-                    let f1i = f1[i] + z1[i];
-                    let f2i = f2[i] + z2[i];
-                    let f3i = f3[i] + z3[i];
-                    f1[i] = f1i;
-                    f2[i] = f2i;
-                    f3[i] = f3i;
-                    z1[i] = T[0][0] * f1i + T[0][1] * f2i + T[0][2] * f3i;
-                    z2[i] = T[1][0] * f1i + T[1][1] * f2i + T[1][2] * f3i;
-                    z3[i] = T[2][0] * f1i + f2i;
-                }
-                if s.faccon * dyno <= p.fnewt {
-                    break 'newton Ok(());
-                }
-            };
-            match newton {
-                Ok(()) => {}
-                Err(Some(kind)) => unexpected!(kind),
-                Err(None) => {
-                    h *= s.hhfac;
-                    s.reject = true;
-                    last = false;
-                    s.action = if s.caljac {
-                        Action::Decompose
-                    } else {
-                        Action::Jacobian
-                    };
-                    continue;
-                }
-            }
-
-            // ---- error estimate (ESTRAD, radau5.md §5)
-            let hee1 = tab.dd1 / h;
-            let hee2 = tab.dd2 / h;
-            let hee3 = tab.dd3 / h;
-            let mut fm = SVector::<f64, N>::zeros(); // Fortran F2: M (d1 Z1 + d2 Z2 + d3 Z3)/h
-            if s.has_mass {
-                let mut fz = SVector::<f64, N>::zeros();
-                for i in 0..N {
-                    fz[i] = hee1 * z1[i] + hee2 * z2[i] + hee3 * z3[i];
-                }
-                for i in 0..N {
-                    let mut sum = 0.0;
-                    for &j in pat.row(i) {
-                        sum += s.mass[(i, j)] * fz[j];
-                    }
-                    fm[i] = sum;
-                    cont[i] = sum + s.f0[i];
-                }
-            } else {
-                for i in 0..N {
-                    fm[i] = hee1 * z1[i] + hee2 * z2[i] + hee3 * z3[i];
-                    cont[i] = fm[i] + s.f0[i];
-                }
-            }
-            blk.solve1(&s.lu1, &s.jac, fac1, &mut cont);
-            let mut err = Self::scaled_rms(&cont, &s.scal);
-            if (err.is_nan() || err >= 1.0) && (s.first || s.reject) {
-                a1.copy_from(&s.y);
-                a1 += &cont;
-                let r = eval(problem, t, &a1, &mut a2);
-                s.stats.nfcn += 1;
-                if let Err(kind) = r {
-                    unexpected!(kind);
-                }
-                for i in 0..N {
-                    cont[i] = a2[i] + fm[i];
-                }
-                blk.solve1(&s.lu1, &s.jac, fac1, &mut cont);
-                err = Self::scaled_rms(&cont, &s.scal);
-            }
-            if err.is_nan() {
-                unexpected!(Failure::NonFinite);
-            }
-
-            // ---- new step size; 0.2 <= h_new/h <= 8
-            let fac = p.safe.min(cfac / f64::from(newt + 2 * nit));
-            // err^0.25 as two square roots (pow costs ~4 times as much; the counters of all
-            // 26 reference rows are unchanged, tests/radau5_parity.rs).
-            let mut quot = p.facr.max(p.facl.min(err.sqrt().sqrt() / fac));
-            let mut hnew = h / quot;
-
-            if err < 1.0 {
-                // ---- accepted. f at the new point first (the Fortran does this after
-                // committing; doing it before lets a failing f shrink h instead).
-                let mut ynew = s.y;
-                ynew += &z3;
-                let mut fnew = SVector::<f64, N>::zeros();
-                if !last {
-                    let r = eval(problem, xph, &ynew, &mut fnew);
-                    s.stats.nfcn += 1;
-                    if let Err(kind) = r {
-                        unexpected!(kind);
-                    }
-                }
-                s.first = false;
-                s.stats.naccpt += 1;
-                s.naccpt_local += 1;
-                let clipped = last && h < h_planned;
-                let clean_clip = clipped && !s.reject;
-                if p.pred && !clean_clip {
-                    // Predictive controller of Gustafsson
-                    if s.naccpt_local > 1 {
-                        let mut facgus =
-                            (s.h_acc / h) * (err * err / s.err_acc).sqrt().sqrt() / p.safe;
-                        facgus = p.facr.max(p.facl.min(facgus));
-                        quot = quot.max(facgus);
-                        hnew = h / quot;
-                    }
-                    s.h_acc = h;
-                    s.err_acc = 1.0e-2f64.max(err);
-                }
-                s.t_prev = t;
-                s.y_prev = s.y;
-                s.f_prev = s.f0;
-                s.h_old = h;
-                s.t = xph;
-                s.y = ynew;
-                for i in 0..N {
-                    let z1i = z1[i];
-                    let z2i = z2[i];
-                    s.cont[1][i] = (z2i - z3[i]) / tab.c2m1;
-                    let ak = (z1i - z2i) / tab.c1mc2;
-                    let mut acont3 = z1i / tab.c1;
-                    acont3 = (ak - acont3) / tab.c2;
-                    s.cont[2][i] = (ak - s.cont[1][i]) / tab.c1m1;
-                    s.cont[3][i] = s.cont[2][i] - acont3;
-                }
-                s.cont[0] = s.y;
-                s.xsol = s.t;
-                s.hsol = h;
-                s.caljac = false;
-                if last {
-                    s.f0_valid = false;
-                } else {
-                    s.f0 = fnew;
-                    s.f0_valid = true;
-                }
-                hnew = hnew.min(p.h_max);
-                if s.reject {
-                    hnew = hnew.min(h);
-                }
-                s.reject = false;
-                s.h_next = if clean_clip && hnew >= h {
-                    hnew.max(p.resume * h_planned)
-                } else {
-                    hnew
-                };
-                s.prev_clipped = last;
-                s.nsing = 0;
-                if last {
-                    s.steps_since_stop = 0;
-                }
-                return Ok(s.t);
-            }
-            // ---- rejected
-            s.reject = true;
-            last = false;
-            if s.first {
-                h *= 0.1;
-                s.hhfac = 0.1;
-            } else {
-                s.hhfac = hnew / h;
-                h = hnew;
-            }
-            if s.stats.naccpt >= 1 {
-                s.stats.nrejct += 1;
-            }
-            s.action = if s.caljac {
-                Action::Decompose
-            } else {
-                Action::Jacobian
-            };
-        }
-    }
-
     /// `max(sqrt(sum (e_i/sc_i)^2 / N), 1e-10)` in the Fortran's summation order.
     #[inline]
-    fn scaled_rms(e: &SVector<f64, N>, scal: &SVector<f64, N>) -> f64 {
+    pub(super) fn scaled_rms(e: &SVector<f64, N>, scal: &SVector<f64, N>) -> f64 {
         let mut err = 0.0;
         for i in 0..N {
             let q = e[i] / scal[i];
