@@ -1,6 +1,6 @@
 //! Helpers shared by the integration test binaries (each binary compiles this module with
 //! `mod common;` and uses only part of it, hence the `dead_code` allowance). The FMI 2.0
-//! instance driver lives in `tests/fmi2_common`.
+//! instance driver and logger are in [`fmi2`].
 #![allow(dead_code)]
 
 pub mod alloc;
