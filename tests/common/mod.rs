@@ -8,5 +8,6 @@ pub mod fmi2;
 pub mod gear;
 pub mod quad;
 pub mod radau5;
+pub mod radau5_problems;
 pub mod rng;
 pub mod rotor;
