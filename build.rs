@@ -3,6 +3,8 @@
 //! `src/fmi2/model_description_check.rs` (unit-tested there); a bad description stops the
 //! build with a message naming the variable and the rule.
 
+#[path = "src/hash.rs"]
+mod hash;
 #[path = "src/fmi2/model_description_check.rs"]
 mod model_description_check;
 
@@ -13,6 +15,7 @@ fn main() {
     println!("cargo:rerun-if-changed={SOURCE}");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=src/fmi2/model_description_check.rs");
+    println!("cargo:rerun-if-changed=src/hash.rs");
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
     let text = match std::fs::read_to_string(manifest.join(SOURCE)) {

@@ -8,11 +8,15 @@
 //!
 //! `cargo run --release --example radau5_parity`
 
+#[allow(dead_code)]
+#[path = "../tests/common/radau5_problems.rs"]
+mod radau5_problems;
+
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use geared_rotor::radau5::test_problems::{all_rows, run_row, ReferenceRow};
 use geared_rotor::radau5::Controller;
+use radau5_problems::{all_rows, run_row, ReferenceRow};
 
 const MEASUREMENTS: usize = 7;
 const MIN_MEASUREMENT: Duration = Duration::from_millis(200);

@@ -11,10 +11,12 @@
 //!   n-th order harmonic approach (`model.md` §11, the paper's Fig. 3).
 //! - [`fmi2`]: the FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe instance.
 //! - [`fmt_num`]: short numbers for messages (used by every layer).
+//! - [`hash`]: 64-bit FNV-1a: the checksums of saved states and the GUID (also in `build.rs`).
 
 pub mod fmi2;
 pub mod fmt_num;
 pub mod gear;
+pub mod hash;
 pub mod periodic;
 pub mod radau5;
 pub mod rotor;

@@ -3,10 +3,9 @@
 //! logging, time bookkeeping and output derivatives.
 
 mod common;
-mod fmi2_common;
 
 use common::fmi2::log_category;
-use fmi2_common::Fmu;
+use common::fmi2::Fmu;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{by_name, Causality, VarType, GUID, VARIABLES};
 use geared_rotor::fmi2::*;
@@ -129,13 +128,13 @@ fn instantiate_checks_type_guid_and_accepts_null_resources_and_memory_callbacks(
     let name = CString::new("inst").unwrap();
     let guid = CString::new(GUID).unwrap();
     let wrong = CString::new("{00000000-0000-0000-0000-000000000000}").unwrap();
-    let log: Box<fmi2_common::Log> = Box::default();
+    let log: Box<common::fmi2::Log> = Box::default();
     let cb = Fmi2CallbackFunctions {
-        logger: fmi2_common::logger(),
+        logger: common::fmi2::logger(),
         allocate_memory: None,
         free_memory: None,
         step_finished: None,
-        component_environment: &*log as *const fmi2_common::Log as *mut std::ffi::c_void,
+        component_environment: &*log as *const common::fmi2::Log as *mut std::ffi::c_void,
     };
     unsafe {
         assert!(

@@ -3,10 +3,9 @@
 //! (about one internal step each), a long step (many internal steps) and held input changes.
 
 mod common;
-mod fmi2_common;
 
 use common::alloc::allocations;
-use fmi2_common::Fmu;
+use common::fmi2::Fmu;
 use geared_rotor::fmi2::types::Fmi2Status;
 
 #[global_allocator]

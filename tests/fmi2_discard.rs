@@ -1,12 +1,10 @@
 //! Solver failure -> fmi2Discard with the state at fmi2LastSuccessfulTime; rollback after it;
 //! tooth lift-off reported through logEvents and the contact_lost output.
 
-mod fmi2_common;
-
 mod common;
 
 use common::fmi2::log_category;
-use fmi2_common::Fmu;
+use common::fmi2::Fmu;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::by_name;
 use geared_rotor::fmi2::*;

@@ -2,9 +2,9 @@
 //! rollback and serialisation bit-identical in both modes with inputs changing at every
 //! point, the mode carried by the FMU state, non-convergence as fmi2Discard.
 
-mod fmi2_common;
+mod common;
 
-use fmi2_common::Fmu;
+use common::fmi2::Fmu;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::by_name;
 use geared_rotor::fmi2::*;

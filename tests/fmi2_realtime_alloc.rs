@@ -2,10 +2,9 @@
 //! allocator around SetReal of new inputs + fmi2DoStep + fmi2GetReal after warm-up.
 
 mod common;
-mod fmi2_common;
 
 use common::alloc::allocations;
-use fmi2_common::Fmu;
+use common::fmi2::Fmu;
 use geared_rotor::fmi2::types::Fmi2Status;
 use geared_rotor::fmi2::variables::{by_name, Causality, VarType, VARIABLES};
 use geared_rotor::fmi2::*;

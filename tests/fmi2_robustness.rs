@@ -7,9 +7,9 @@
 //! the test fails if it has not returned after a generous wait (this detects a call that
 //! never returns; it is not a speed assertion).
 
-mod fmi2_common;
+mod common;
 
-use fmi2_common::Fmu;
+use common::fmi2::Fmu;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{by_name, Causality, VarType, VARIABLES};
 use geared_rotor::fmi2::*;

@@ -6,7 +6,7 @@ mod common;
 
 use common::alloc::allocations;
 use common::radau5::{opts, pendulum2, pendulum2_opts};
-use geared_rotor::radau5::test_problems::{Amplifier1t, VanDerPol};
+use common::radau5_problems::{Amplifier1t, VanDerPol};
 use geared_rotor::radau5::Radau5;
 use nalgebra::SVector;
 

@@ -4,7 +4,7 @@
 mod common;
 
 use common::radau5::{opts, pendulum2, pendulum2_opts};
-use geared_rotor::radau5::test_problems::{Robertson, VanDerPol};
+use common::radau5_problems::{Robertson, VanDerPol};
 use geared_rotor::radau5::{
     Error, Options, Problem, Radau5, Retake, RhsError, Snapshot, SnapshotError, Tolerance,
 };

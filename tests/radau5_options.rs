@@ -1,7 +1,9 @@
 //! Options: defaults of `radau5.f` (radau5.md §2), per-component tolerances, the
 //! finite-difference Jacobian, zero Newton start.
 
-use geared_rotor::radau5::test_problems::{Robertson, VanDerPol};
+mod common;
+
+use common::radau5_problems::{Robertson, VanDerPol};
 use geared_rotor::radau5::{
     Controller, Error, JacobianMode, NewtonStart, Options, Radau5, Tolerance,
 };

@@ -8,7 +8,9 @@
 //! and, at tol 1e-10 only, moves the counters by a few units -- the Fortran run is that
 //! sensitive, which is why a few units would be acceptable at tol <= 1e-8.)
 
-use geared_rotor::radau5::test_problems::{all_rows, run_row};
+mod common;
+
+use common::radau5_problems::{all_rows, run_row};
 
 /// The error rounded to the three significant digits `reference.md` gives. With the
 /// Fortran's arithmetic (err^0.25 by `pow`) all 26 rows agree to these digits; with

@@ -15,6 +15,7 @@
 //! any change of the file, a new GUID. A bad description stops the build with a message
 //! naming the variable and the rule it breaks.
 
+use crate::hash::{fnv1a64, fnv1a64_with_basis};
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 use std::collections::{HashMap, HashSet};
@@ -153,20 +154,11 @@ fn attrs(e: &BytesStart) -> HashMap<String, String> {
     m
 }
 
-/// 64-bit FNV-1a (no external crate); used twice with different offset bases for the GUID.
-fn fnv1a(bytes: &[u8], basis: u64) -> u64 {
-    let mut h = basis;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
-
 fn guid_of(content: &str) -> String {
     let norm = content.replace("\r\n", "\n");
-    let a = fnv1a(norm.as_bytes(), 0xcbf2_9ce4_8422_2325);
-    let b = fnv1a(norm.as_bytes(), 0x6c62_272e_07bb_0142);
+    // 64-bit FNV-1a twice, with the standard and a second offset basis.
+    let a = fnv1a64(norm.as_bytes());
+    let b = fnv1a64_with_basis(norm.as_bytes(), 0x6c62_272e_07bb_0142);
     format!(
         "{{{:08x}-{:04x}-{:04x}-{:04x}-{:012x}}}",
         a >> 32,

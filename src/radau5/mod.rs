@@ -69,8 +69,6 @@ mod step_phases;
 mod step_size;
 mod stepper;
 pub mod tableau;
-#[doc(hidden)]
-pub mod test_problems;
 
 pub use error::{Error, RhsError, SnapshotError};
 pub use fixed_step::MIN_FIXED_ITERATIONS;

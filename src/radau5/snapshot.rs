@@ -11,6 +11,7 @@ use super::options::Params;
 use super::state::{Action, State};
 use super::stepper::Radau5;
 use super::{SnapshotError, Statistics};
+use crate::hash::fnv1a64;
 
 const MAGIC: [u8; 8] = *b"RADAU5SN";
 /// 2: `y_prev`, `f_prev` (for `Radau5::retake`) after `t_prev`.
@@ -39,15 +40,6 @@ impl<const N: usize> Radau5<N> {
         self.st = s.state.clone();
         self.pattern = super::stepper::MassPattern::new(&self.st.mass);
     }
-}
-
-fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
 }
 
 /// Sequential writer/reader of the payload; the same field order is used both ways by
@@ -325,7 +317,7 @@ impl<const N: usize> Snapshot<N> {
         let mut s = self.state.clone();
         // Writing never fails.
         let _ = visit(&mut Writer(&mut out), &mut s);
-        let sum = fnv1a(&out);
+        let sum = fnv1a64(&out);
         out.extend_from_slice(&sum.to_le_bytes());
         out
     }
@@ -378,7 +370,7 @@ impl<const N: usize> Snapshot<N> {
         let body = &bytes[..total - CHECKSUM_LEN];
         let mut sum = [0u8; 8];
         sum.copy_from_slice(&bytes[total - CHECKSUM_LEN..]);
-        if fnv1a(body) != u64::from_le_bytes(sum) {
+        if fnv1a64(body) != u64::from_le_bytes(sum) {
             return Err(SnapshotError::Checksum);
         }
         let mut state = zero_state::<N>();

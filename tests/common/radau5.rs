@@ -1,6 +1,6 @@
 //! Set-up shared by the RADAU5 tests.
 
-use geared_rotor::radau5::test_problems::Pendulum2;
+use super::radau5_problems::Pendulum2;
 use geared_rotor::radau5::{Options, Tolerance};
 use nalgebra::SVector;
 

@@ -140,7 +140,7 @@ extern "C" fn record(
 }
 
 fn logger() -> Fmi2CallbackLogger {
-    // SAFETY: same fixed arguments; the FMU never passes varargs (see tests/fmi2_common).
+    // SAFETY: same fixed arguments; the FMU never passes varargs (see tests/common/fmi2.rs).
     Some(unsafe {
         std::mem::transmute::<
             extern "C" fn(*mut c_void, Fmi2String, Fmi2Status, Fmi2String, Fmi2String),

@@ -1,7 +1,7 @@
-//! Review tests (mutation testing) for `src/gear`: the contact lines, the friction
-//! resultants (all three components of forces and moments, including the tilting moments)
-//! and the normal-load lever arms, each against a computation from first principles that
-//! does not use the crate's segments, frames or line integrals.
+//! The friction resultants of `src/gear` and what they rest on: the contact lines, the
+//! resultants (all three components of forces and moments, including the tilting moments),
+//! the normal-load lever arms and the spur loss factor, each against a computation from first
+//! principles that does not use the crate's segments, frames or line integrals.
 
 mod common;
 
@@ -320,7 +320,7 @@ fn friction_resultants_match_quadrature_of_the_sliding_direction() {
         }
     }
     println!(
-        "review_gear: {nseg} segments; max rel dev: contact length {worst_l:.2e}, forces {worst_f:.2e}, moments {worst_m:.2e}, P_loss {worst_w:.2e}"
+        "gear_friction_resultants: {nseg} segments; max rel dev: contact length {worst_l:.2e}, forces {worst_f:.2e}, moments {worst_m:.2e}, P_loss {worst_w:.2e}"
     );
 }
 
@@ -366,7 +366,7 @@ fn normal_load_lever_arms_match_the_contact_lines() {
             );
         }
     }
-    println!("review_gear: lever arms max rel dev {worst:.2e}");
+    println!("gear_friction_resultants: lever arms max rel dev {worst:.2e}");
 }
 
 /// Spur loss factor with the pitch point outside the single-contact zone on the approach
@@ -422,7 +422,7 @@ fn spur_loss_factor_with_approach_beyond_single_contact() {
     mean /= p;
     let e = ((g.h_v - mean) / mean).abs();
     println!(
-        "review_gear: spur eps_1 = {eps_1:.4}: H_V {} vs kinematic mean {mean}, rel dev {e:.2e}",
+        "gear_friction_resultants: spur eps_1 = {eps_1:.4}: H_V {} vs kinematic mean {mean}, rel dev {e:.2e}",
         g.h_v
     );
     assert!(e < 1e-12, "H_V {} vs {mean}", g.h_v);

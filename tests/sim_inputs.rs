@@ -1,8 +1,8 @@
-//! Review tests (mutation testing) for the input handling of `src/sim`: the drive-speed
-//! filter seen through `Simulation` against the closed-form step and ramp responses of a
-//! critically damped second-order filter (README "Input smoothing", model.md §8), the
-//! held inputs (zero-order hold unless a derivative is set at the same communication point)
-//! and the energy balance of model.md §9.6 over the run.
+//! The input handling of `src/sim`: the drive-speed filter seen through `Simulation` against
+//! the closed-form step and ramp responses of a critically damped second-order filter
+//! (README "Input smoothing", model.md §8), the held inputs (zero-order hold unless a
+//! derivative is set at the same communication point) and the energy balance of model.md
+//! §9.6 over the run.
 
 use geared_rotor::rotor::Params;
 use geared_rotor::sim::{Input, Simulation, SolverSettings};
@@ -84,7 +84,7 @@ fn omega1_step_gives_the_critically_damped_response() {
     let eb = energy_residual(&s, e0);
     let gap = s.outputs().gap;
     println!(
-        "review_sim step: max |omega1 - closed form| / step = {worst:.2e}, omega1' {worst_d:.2e} of peak; energy residual {eb:.2e}; gap {gap:.2e} m"
+        "sim_inputs step: max |omega1 - closed form| / step = {worst:.2e}, omega1' {worst_d:.2e} of peak; energy residual {eb:.2e}; gap {gap:.2e} m"
     );
     assert!(eb.abs() < 1e-6, "energy balance {eb:e}");
     assert!(gap.abs() < 1e-9, "gap drift {gap:e}");
@@ -147,5 +147,5 @@ fn ramp_then_hold_follows_superposed_closed_forms() {
     // T_load kept its ramp b t after omega1 was set at t2 (derivative set at t1 only)
     let t = s.time();
     assert!((s.input(Input::TLoad) - b * t).abs() < 1e-9);
-    println!("review_sim ramp/hold: max |omega1 - closed form| / steady lag = {worst:.2e}");
+    println!("sim_inputs ramp/hold: max |omega1 - closed form| / steady lag = {worst:.2e}");
 }

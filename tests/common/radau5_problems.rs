@@ -1,10 +1,12 @@
 //! The parity problems of `data/radau5/reference.md`, their reference solutions
-//! and the Fortran's counters, shared by the tests and the `radau5_parity` example.
-//! (Hidden from the docs: test support, not part of the solver API.)
+//! and the Fortran's counters, shared by the tests and the `radau5_parity` example
+//! (which includes this file with `#[path]`). Test support, not part of the FMU library.
 
 use nalgebra::{SMatrix, SVector};
 
-use super::{Controller, Error, Options, Problem, Radau5, RhsError, Statistics, Tolerance};
+use geared_rotor::radau5::{
+    Controller, Error, Options, Problem, Radau5, RhsError, Statistics, Tolerance,
+};
 
 /// Van der Pol, `y1' = y2`, `y2' = ((1 - y1^2) y2 - y1)/eps`, eps = 1e-6 (written like
 /// Hairer's driver `dr1_radau5.f`).

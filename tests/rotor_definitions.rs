@@ -1,4 +1,4 @@
-//! Review tests (mutation testing) for `src/rotor`: the static equilibrium under a load
+//! The rotor model's definitions in `src/rotor`: the static equilibrium under a load
 //! torque, the phi2 output relative to the initial angles, the rigid-rotation start state,
 //! the filter and held-input rows of f, and the default parameter set, each against
 //! model.md / README definitions evaluated here.
@@ -71,7 +71,7 @@ fn static_equilibrium_with_load_torque_balances_forces() {
             assert!(e < 1e-9, "T_load {t_load}: v'[{i}] force {}", f[idx::V + i]);
         }
     }
-    println!("review_rotor: static equilibrium with load, max rel dev {worst:.2e}");
+    println!("rotor_definitions: static equilibrium with load, max rel dev {worst:.2e}");
 }
 
 /// phi2 is reported relative to the start (model.md §6: TE = r_b2 phi2 - r_b1 phi1
@@ -99,7 +99,7 @@ fn phi2_output_is_relative_to_the_initial_angles() {
     let o = model.outputs(0.0, &y);
     let want = (2e-6 + rb1 * 0.3) / rb2;
     let e = ((o.phi2 - want) / want).abs();
-    println!("review_rotor: phi2 rel dev {e:.2e}");
+    println!("rotor_definitions: phi2 rel dev {e:.2e}");
     assert!(e < 1e-9, "phi2 {} vs {want}", o.phi2);
 }
 
@@ -137,7 +137,7 @@ fn rigid_rotation_state_is_on_the_constraint() {
             scale = scale.max((grow[i] * f[idx::V + i] / ms[i]).abs());
         }
         println!(
-            "review_rotor: rigid rotation mu {mu}: hidden constraint {hidden:.2e} of {scale:.2e}"
+            "rotor_definitions: rigid rotation mu {mu}: hidden constraint {hidden:.2e} of {scale:.2e}"
         );
         assert!(hidden.abs() < 1e-12 * scale, "{hidden} of {scale}");
     }
