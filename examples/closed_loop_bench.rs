@@ -148,18 +148,6 @@ struct RunResult {
     n: usize,
 }
 
-fn sub(a: &Statistics, b: &Statistics) -> Statistics {
-    Statistics {
-        nfcn: a.nfcn - b.nfcn,
-        njac: a.njac - b.njac,
-        nstep: a.nstep - b.nstep,
-        naccpt: a.naccpt - b.naccpt,
-        nrejct: a.nrejct - b.nrejct,
-        ndec: a.ndec - b.ndec,
-        nsol: a.nsol - b.nsol,
-    }
-}
-
 fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
     s.nfcn += d.nfcn;
     s.njac += d.njac;
@@ -231,7 +219,7 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
             cpu_max = cpu_max.max(cpu_seconds() - c0);
         }
         wall.push(dt);
-        let d = sub(&f.stats(), &s0);
+        let d = f.stats().since(&s0);
         acc(&mut sum, &mut max, &d);
         min_nfcn = min_nfcn.min(d.nfcn);
     }

@@ -6,55 +6,9 @@
 mod common;
 
 use common::rng::Rng;
-use common::rotor::{driven, masses};
+use common::rotor::{driven, hidden_constraint};
 use geared_rotor::rotor::{idx, GearedRotor, InitialConditions, Inputs, Params, NY};
-use nalgebra::{SVector, Vector3};
-
-/// Returns (residual of the hidden constraint, scale = |lambda| G M^-1 G^T + |G M^-1 F| ...).
-fn hidden_constraint(model: &mut GearedRotor, t: f64, y: &SVector<f64, NY>) -> (f64, f64) {
-    let p = *model.params();
-    let g = *model.geometry();
-    let masses = masses(&p);
-    let mut f = SVector::<f64, NY>::zeros();
-    model.rhs(t, y, &mut f).unwrap();
-    let row = |q: &[f64; 6]| {
-        let m = g
-            .mesh(
-                &Vector3::new(q[0], q[1], q[2]),
-                &Vector3::new(q[3], q[4], q[5]),
-            )
-            .unwrap();
-        g.constraint_row(&m)
-    };
-    let v: Vec<f64> = (0..7).map(|i| y[idx::V + i]).collect();
-    // d/dt G(q(t)) v at fixed v: central differences along q + h v, Richardson h, h/2
-    let gdot_v = |h: f64| {
-        let mut qp = [0.0; 6];
-        let mut qm = [0.0; 6];
-        for i in 0..6 {
-            qp[i] = y[i] + h * v[i];
-            qm[i] = y[i] - h * v[i];
-        }
-        let (rp, rm) = (row(&qp), row(&qm));
-        (0..7)
-            .map(|i| (rp[i] - rm[i]) / (2.0 * h) * v[i])
-            .sum::<f64>()
-    };
-    let h = 1e-5;
-    let gdv = (4.0 * gdot_v(h / 2.0) - gdot_v(h)) / 3.0;
-    let r0 = row(&[y[0], y[1], y[2], y[3], y[4], y[5]]);
-    let mut gvdot = 0.0;
-    let mut scale: f64 = 0.0;
-    for i in 0..7 {
-        let vdot = f[idx::V + i] / masses[i];
-        gvdot += r0[i] * vdot;
-        scale = scale
-            .max((r0[i] * vdot).abs())
-            .max((r0[i] * r0[i] * y[idx::LAMBDA] / masses[i]).abs());
-    }
-    let res = gdv + gvdot - g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT];
-    (res, scale)
-}
+use nalgebra::SVector;
 
 #[test]
 fn lambda_satisfies_hidden_constraint_for_both_signs() {

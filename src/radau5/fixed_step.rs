@@ -22,6 +22,7 @@
 
 use nalgebra::SVector;
 
+use super::stepper::check_finite;
 use super::tableau::{T, TI};
 use super::{Error, Problem, Radau5};
 
@@ -89,13 +90,7 @@ impl<const N: usize> Radau5<N> {
     /// # Errors
     /// [`Error::InvalidOption`] for a non-finite `y`.
     pub fn fixed_set_point(&mut self, y: SVector<f64, N>) -> Result<(), Error> {
-        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "y",
-                value: *v,
-                requirement: "finite",
-            });
-        }
+        check_finite("y", &y)?;
         let s = &mut self.st;
         s.y = y;
         s.f0_valid = false;
@@ -294,19 +289,7 @@ impl<const N: usize> Radau5<N> {
         s.theta = theta;
         s.t = t_end;
         s.y += &z3;
-        for i in 0..N {
-            let z1i = z1[i];
-            let z2i = z2[i];
-            s.cont[1][i] = (z2i - z3[i]) / tab.c2m1;
-            let ak = (z1i - z2i) / tab.c1mc2;
-            let mut acont3 = z1i / tab.c1;
-            acont3 = (ak - acont3) / tab.c2;
-            s.cont[2][i] = (ak - s.cont[1][i]) / tab.c1m1;
-            s.cont[3][i] = s.cont[2][i] - acont3;
-        }
-        s.cont[0] = s.y;
-        s.xsol = s.t;
-        s.hsol = h;
+        s.set_dense_output(&tab, &z1, &z2, &z3, h);
         s.f0_valid = false;
         s.naccpt_local += 1;
         Ok(s.t)

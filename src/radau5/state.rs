@@ -6,6 +6,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::linalg::{ComplexLu, RealLu};
 use super::options::Params;
+use super::tableau::Tableau;
 use super::Statistics;
 
 /// What the next attempt has to do first: the Fortran's labels 10 (new Jacobian),
@@ -94,6 +95,33 @@ pub(crate) struct State<const N: usize> {
 }
 
 impl<const N: usize> State<N> {
+    /// The dense output of the step of size `h` just accepted, which ended at (`t`, `y`):
+    /// the divided differences of its collocation polynomial from the stage increments
+    /// z1, z2, z3 (`CONT` after label 40 of `RADCOR`). Shared by the adaptive and the
+    /// fixed step.
+    pub fn set_dense_output(
+        &mut self,
+        tab: &Tableau,
+        z1: &SVector<f64, N>,
+        z2: &SVector<f64, N>,
+        z3: &SVector<f64, N>,
+        h: f64,
+    ) {
+        for i in 0..N {
+            let z1i = z1[i];
+            let z2i = z2[i];
+            self.cont[1][i] = (z2i - z3[i]) / tab.c2m1;
+            let ak = (z1i - z2i) / tab.c1mc2;
+            let mut acont3 = z1i / tab.c1;
+            acont3 = (ak - acont3) / tab.c2;
+            self.cont[2][i] = (ak - self.cont[1][i]) / tab.c1m1;
+            self.cont[3][i] = self.cont[2][i] - acont3;
+        }
+        self.cont[0] = self.y;
+        self.xsol = self.t;
+        self.hsol = h;
+    }
+
     /// A solver that has taken no step yet, at `(t, y)` with the step size `h` to try
     /// first: the state after `RADCOR`'s initialisation (FACCON = 1, THETA = |THET|, no
     /// Jacobian, zero counters), with f(t, y) not evaluated yet (`f0_valid` false) and the

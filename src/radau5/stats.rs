@@ -20,6 +20,21 @@ pub struct Statistics {
     pub nsol: u64,
 }
 
+impl Statistics {
+    /// The work done since `earlier` (a copy of these counters taken before it).
+    pub fn since(&self, earlier: &Statistics) -> Statistics {
+        Statistics {
+            nfcn: self.nfcn - earlier.nfcn,
+            njac: self.njac - earlier.njac,
+            nstep: self.nstep - earlier.nstep,
+            naccpt: self.naccpt - earlier.naccpt,
+            nrejct: self.nrejct - earlier.nrejct,
+            ndec: self.ndec - earlier.ndec,
+            nsol: self.nsol - earlier.nsol,
+        }
+    }
+}
+
 impl fmt::Display for Statistics {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(

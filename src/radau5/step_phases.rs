@@ -558,19 +558,7 @@ impl<const N: usize> Radau5<N> {
         s.h_old = h;
         s.t = xph;
         s.y = ynew;
-        for i in 0..N {
-            let z1i = z1[i];
-            let z2i = z2[i];
-            s.cont[1][i] = (z2i - z3[i]) / tab.c2m1;
-            let ak = (z1i - z2i) / tab.c1mc2;
-            let mut acont3 = z1i / tab.c1;
-            acont3 = (ak - acont3) / tab.c2;
-            s.cont[2][i] = (ak - s.cont[1][i]) / tab.c1m1;
-            s.cont[3][i] = s.cont[2][i] - acont3;
-        }
-        s.cont[0] = s.y;
-        s.xsol = s.t;
-        s.hsol = h;
+        s.set_dense_output(tab, z1, z2, z3, h);
         s.caljac = false;
         if last {
             s.f0_valid = false;
@@ -578,13 +566,13 @@ impl<const N: usize> Radau5<N> {
             s.f0 = fnew;
             s.f0_valid = true;
         }
-        hnew = hnew.min(p.h_max);
+        hnew = hnew.min(s.params.h_max);
         if s.reject {
             hnew = hnew.min(h);
         }
         s.reject = false;
         s.h_next = if clean_clip && hnew >= h {
-            hnew.max(p.resume * h_planned)
+            hnew.max(s.params.resume * h_planned)
         } else {
             hnew
         };

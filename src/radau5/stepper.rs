@@ -376,6 +376,21 @@ pub(super) enum Failure {
     NonFinite,
 }
 
+/// A state handed to the stepper from outside must be finite (named `name` in the error).
+pub(super) fn check_finite<const N: usize>(
+    name: &'static str,
+    y: &SVector<f64, N>,
+) -> Result<(), Error> {
+    match y.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(Error::InvalidOption {
+            name,
+            value: *v,
+            requirement: "finite",
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Evaluates f and checks it for NaN/inf.
 #[inline]
 pub(super) fn eval<P: Problem<N>, const N: usize>(
@@ -413,13 +428,7 @@ impl<const N: usize> Radau5<N> {
                 requirement: "finite",
             });
         }
-        if let Some(v) = y0.iter().find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "y0",
-                value: *v,
-                requirement: "finite",
-            });
-        }
+        check_finite("y0", &y0)?;
         let mass = problem.mass();
         let blocks = if options.quadrature.iter().any(|&q| q) || options.second_order.is_some() {
             Blocks::new(
@@ -537,13 +546,7 @@ impl<const N: usize> Radau5<N> {
         y: SVector<f64, N>,
         h: Option<f64>,
     ) -> Result<(), Error> {
-        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "y",
-                value: *v,
-                requirement: "finite",
-            });
-        }
+        check_finite("y", &y)?;
         if let Some(h) = h {
             if !(h > 0.0 && h.is_finite()) {
                 return Err(Error::InvalidOption {
@@ -629,13 +632,7 @@ impl<const N: usize> Radau5<N> {
         problem: &mut P,
         y: SVector<f64, N>,
     ) -> Result<(), Error> {
-        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "y",
-                value: *v,
-                requirement: "finite",
-            });
-        }
+        check_finite("y", &y)?;
         let s = &mut self.st;
         let mut f0 = SVector::zeros();
         let r = eval(problem, s.t, &y, &mut f0);

@@ -430,18 +430,6 @@ pub struct Simulation {
     h_fixed: f64,
 }
 
-fn sub_stats(a: &Statistics, b: &Statistics) -> Statistics {
-    Statistics {
-        nfcn: a.nfcn - b.nfcn,
-        njac: a.njac - b.njac,
-        nstep: a.nstep - b.nstep,
-        naccpt: a.naccpt - b.naccpt,
-        nrejct: a.nrejct - b.nrejct,
-        ndec: a.ndec - b.ndec,
-        nsol: a.nsol - b.nsol,
-    }
-}
-
 fn solver_err(error: radau5::Error, t: f64) -> SimError {
     SimError::Solver {
         error,
@@ -916,7 +904,7 @@ impl Simulation {
             self.check_validity(t_end, &y, &mut report)?;
         }
         self.last_successful_time = t_end;
-        report.stats = sub_stats(self.solver.stats(), &stats0);
+        report.stats = self.solver.stats().since(&stats0);
         report.contact_lost = self.contact_lost;
         Ok(report)
     }

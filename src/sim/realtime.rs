@@ -127,7 +127,7 @@ impl Simulation {
         }
         self.set_comm(t_end);
         self.last_successful_time = t_end;
-        report.stats = super::sub_stats(self.solver.stats(), &stats0);
+        report.stats = self.solver.stats().since(&stats0);
         report.contact_lost = self.contact_lost;
         Ok(report)
     }
