@@ -22,8 +22,9 @@
 
 use nalgebra::SVector;
 
+use super::step_phases::{accumulate, newton_increment};
 use super::stepper::check_finite;
-use super::tableau::{T, TI};
+use super::tableau::TI;
 use super::{Error, Problem, Radau5};
 
 /// Fewest Newton iterations per fixed step: the contraction test needs two increments.
@@ -206,52 +207,22 @@ impl<const N: usize> Radau5<N> {
                 problem.rhs(tc, &cont, a).map_err(rhs_err)?;
             }
             s.stats.nfcn += 3;
-            for i in 0..N {
-                let (x1, x2, x3) = (a1[i], a2[i], a3[i]);
-                z1[i] = TI[0][0] * x1 + TI[0][1] * x2 + TI[0][2] * x3;
-                z2[i] = TI[1][0] * x1 + TI[1][1] * x2 + TI[1][2] * x3;
-                z3[i] = TI[2][0] * x1 + TI[2][1] * x2 + TI[2][2] * x3;
-            }
-            for i in 0..N {
-                let (mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0);
-                if s.has_mass {
-                    for &j in pat.row(i) {
-                        let bb = s.mass[(i, j)];
-                        s1 -= bb * f1[j];
-                        s2 -= bb * f2[j];
-                        s3 -= bb * f3[j];
-                    }
-                } else {
-                    (s1, s2, s3) = (-f1[i], -f2[i], -f3[i]);
-                }
-                z1[i] += s1 * fac1;
-                z2[i] = z2[i] + s2 * alphn - s3 * betan;
-                z3[i] = z3[i] + s3 * alphn + s2 * betan;
-            }
-            blk.solve1(&s.lu1, &s.jac, fac1, &mut z1);
-            blk.solve2(&s.lu2, &s.jac, (alphn, betan), &mut z2, &mut z3);
+            let dyno = newton_increment(
+                s,
+                blk,
+                pat,
+                (fac1, alphn, betan),
+                [&a1, &a2, &a3],
+                [&f1, &f2, &f3],
+                [&mut z1, &mut z2, &mut z3],
+                &scal,
+            );
             s.stats.nsol += 1;
-            let mut dyno = 0.0;
-            for i in 0..N {
-                let (q1, q2, q3) = (z1[i] / scal[i], z2[i] / scal[i], z3[i] / scal[i]);
-                dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
-            }
-            dyno = (dyno / (3 * N) as f64).sqrt();
             if !dyno.is_finite() {
                 return Err(Error::NonFinite { t, h });
             }
             (dyn_prev, dyn_last) = (dyn_last, dyno);
-            for i in 0..N {
-                let f1i = f1[i] + z1[i];
-                let f2i = f2[i] + z2[i];
-                let f3i = f3[i] + z3[i];
-                f1[i] = f1i;
-                f2[i] = f2i;
-                f3[i] = f3i;
-                z1[i] = T[0][0] * f1i + T[0][1] * f2i + T[0][2] * f3i;
-                z2[i] = T[1][0] * f1i + T[1][1] * f2i + T[1][2] * f3i;
-                z3[i] = T[2][0] * f1i + f2i;
-            }
+            accumulate([&mut f1, &mut f2, &mut f3], [&mut z1, &mut z2, &mut z3]);
         }
         // Converged: contraction below 1 and the predicted remaining error below kappa, or
         // a last increment below NEGLIGIBLE_INCREMENT kappa whatever the ratio (at that

@@ -9,7 +9,9 @@ use nalgebra::SVector;
 
 use super::state::{Action, State};
 use super::step_size::{gustafsson_quotient, step_quotient};
-use super::stepper::{eval, Failure, MAX_RHS_FAILURES, MAX_SINGULAR, MAX_UNEXPECTED};
+use super::stepper::{
+    eval, Blocks, Failure, MassPattern, MAX_RHS_FAILURES, MAX_SINGULAR, MAX_UNEXPECTED,
+};
 use super::tableau::{T, TI};
 use super::{Error, Problem, Radau5};
 
@@ -340,48 +342,18 @@ impl<const N: usize> Radau5<N> {
                 break Newton::Failed(Failure::Rhs(e));
             }
             s.stats.nfcn += 3;
-            for i in 0..N {
-                let (x1, x2, x3) = (a1[i], a2[i], a3[i]);
-                z1[i] = TI[0][0] * x1 + TI[0][1] * x2 + TI[0][2] * x3;
-                z2[i] = TI[1][0] * x1 + TI[1][1] * x2 + TI[1][2] * x3;
-                z3[i] = TI[2][0] * x1 + TI[2][1] * x2 + TI[2][2] * x3;
-            }
-            // SLVRAD
-            if s.has_mass {
-                for i in 0..N {
-                    let (mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0);
-                    for &j in pat.row(i) {
-                        let bb = s.mass[(i, j)];
-                        s1 -= bb * f1[j];
-                        s2 -= bb * f2[j];
-                        s3 -= bb * f3[j];
-                    }
-                    z1[i] += s1 * fac1;
-                    z2[i] = z2[i] + s2 * alphn - s3 * betan;
-                    z3[i] = z3[i] + s3 * alphn + s2 * betan;
-                }
-            } else {
-                for i in 0..N {
-                    let s2 = -f2[i];
-                    let s3 = -f3[i];
-                    z1[i] -= f1[i] * fac1;
-                    z2[i] = z2[i] + s2 * alphn - s3 * betan;
-                    z3[i] = z3[i] + s3 * alphn + s2 * betan;
-                }
-            }
-            blk.solve1(&s.lu1, &s.jac, fac1, z1);
-            blk.solve2(&s.lu2, &s.jac, (alphn, betan), z2, z3);
+            let dyno = newton_increment(
+                s,
+                blk,
+                pat,
+                (fac1, alphn, betan),
+                [&a1, &a2, &a3],
+                [&*f1, &*f2, &*f3],
+                [&mut *z1, &mut *z2, &mut *z3],
+                &s.scal,
+            );
             s.stats.nsol += 1;
             newt += 1;
-            let mut dyno = 0.0;
-            for i in 0..N {
-                let denom = s.scal[i];
-                let q1 = z1[i] / denom;
-                let q2 = z2[i] / denom;
-                let q3 = z3[i] / denom;
-                dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
-            }
-            dyno = (dyno / (3 * N) as f64).sqrt();
             // A non-finite f (or increment) rejects the attempt after its 3 f calls and its
             // solve have been counted. For 1 < NEWT < NIT this is radau5.f's own path: DYNO
             // is inf or NaN, so THETA = DYNO/DYNOLD (or its geometric mean with THQOLD) is
@@ -417,17 +389,10 @@ impl<const N: usize> Radau5<N> {
                 }
             }
             s.dynold = dyno.max(p.uround);
-            for i in 0..N {
-                let f1i = f1[i] + z1[i];
-                let f2i = f2[i] + z2[i];
-                let f3i = f3[i] + z3[i];
-                f1[i] = f1i;
-                f2[i] = f2i;
-                f3[i] = f3i;
-                z1[i] = T[0][0] * f1i + T[0][1] * f2i + T[0][2] * f3i;
-                z2[i] = T[1][0] * f1i + T[1][1] * f2i + T[1][2] * f3i;
-                z3[i] = T[2][0] * f1i + f2i;
-            }
+            accumulate(
+                [&mut *f1, &mut *f2, &mut *f3],
+                [&mut *z1, &mut *z2, &mut *z3],
+            );
             let converged = match faccon_pending {
                 // base^0.8 >= min(base, 1): clearly not converged whatever the pow gives.
                 Some(base) if base.min(1.0) * dyno * (1.0 - 1e-12) > p.fnewt => false,
@@ -669,5 +634,79 @@ fn next_matrices<const N: usize>(s: &State<N>) -> Action {
         Action::Decompose
     } else {
         Action::Jacobian
+    }
+}
+
+/// One simplified-Newton increment (`SLVRAD`): from f at the three stages (`a`) and the
+/// accumulated stage values F (`f`) to the increments `z` in the eigenbasis of the Radau IIA
+/// matrix, solved with the current LU pair (`fac`: gamma/h, alpha/h, beta/h); returns
+/// `DYNO`, their RMS norm scaled by `scal`. Shared by the adaptive and the fixed step.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn newton_increment<const N: usize>(
+    s: &State<N>,
+    blk: &Blocks<N>,
+    pat: &MassPattern<N>,
+    (fac1, alphn, betan): (f64, f64, f64),
+    [a1, a2, a3]: [&SVector<f64, N>; 3],
+    [f1, f2, f3]: [&SVector<f64, N>; 3],
+    [z1, z2, z3]: [&mut SVector<f64, N>; 3],
+    scal: &SVector<f64, N>,
+) -> f64 {
+    for i in 0..N {
+        let (x1, x2, x3) = (a1[i], a2[i], a3[i]);
+        z1[i] = TI[0][0] * x1 + TI[0][1] * x2 + TI[0][2] * x3;
+        z2[i] = TI[1][0] * x1 + TI[1][1] * x2 + TI[1][2] * x3;
+        z3[i] = TI[2][0] * x1 + TI[2][1] * x2 + TI[2][2] * x3;
+    }
+    if s.has_mass {
+        for i in 0..N {
+            let (mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0);
+            for &j in pat.row(i) {
+                let bb = s.mass[(i, j)];
+                s1 -= bb * f1[j];
+                s2 -= bb * f2[j];
+                s3 -= bb * f3[j];
+            }
+            z1[i] += s1 * fac1;
+            z2[i] = z2[i] + s2 * alphn - s3 * betan;
+            z3[i] = z3[i] + s3 * alphn + s2 * betan;
+        }
+    } else {
+        for i in 0..N {
+            let s2 = -f2[i];
+            let s3 = -f3[i];
+            z1[i] -= f1[i] * fac1;
+            z2[i] = z2[i] + s2 * alphn - s3 * betan;
+            z3[i] = z3[i] + s3 * alphn + s2 * betan;
+        }
+    }
+    blk.solve1(&s.lu1, &s.jac, fac1, z1);
+    blk.solve2(&s.lu2, &s.jac, (alphn, betan), z2, z3);
+    let mut dyno = 0.0;
+    for i in 0..N {
+        let denom = scal[i];
+        let q1 = z1[i] / denom;
+        let q2 = z2[i] / denom;
+        let q3 = z3[i] / denom;
+        dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
+    }
+    (dyno / (3 * N) as f64).sqrt()
+}
+
+/// F += Z, and Z = T F: the new stage values back from the eigenbasis.
+pub(super) fn accumulate<const N: usize>(
+    [f1, f2, f3]: [&mut SVector<f64, N>; 3],
+    [z1, z2, z3]: [&mut SVector<f64, N>; 3],
+) {
+    for i in 0..N {
+        let f1i = f1[i] + z1[i];
+        let f2i = f2[i] + z2[i];
+        let f3i = f3[i] + z3[i];
+        f1[i] = f1i;
+        f2[i] = f2i;
+        f3[i] = f3i;
+        z1[i] = T[0][0] * f1i + T[0][1] * f2i + T[0][2] * f3i;
+        z2[i] = T[1][0] * f1i + T[1][1] * f2i + T[1][2] * f3i;
+        z3[i] = T[2][0] * f1i + f2i;
     }
 }
