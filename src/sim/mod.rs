@@ -841,13 +841,7 @@ impl Simulation {
             // every step advances time by more than the resolution of t (radau5.f's rule)
             // or ends on t_end, else "step size too small".
             let t_before = self.solver.t();
-            if steps >= self.max_internal_steps {
-                return Err(self.stop_at_last_step(SimError::WorkLimit {
-                    limit: self.max_internal_steps,
-                    t: t_before,
-                    t_end,
-                }));
-            }
+            self.check_work(steps, t_end)?;
             steps += 1;
             let (target, at_event) = if lookahead {
                 let target = if use_events {

@@ -100,14 +100,7 @@ impl Simulation {
         }
         for k in 1..=n {
             // Bounded work per doStep (`max_internal_steps`), as in the adaptive mode.
-            if k > self.max_internal_steps {
-                let ts = self.solver.t();
-                return Err(self.stop_at_last_step(SimError::WorkLimit {
-                    limit: self.max_internal_steps,
-                    t: ts,
-                    t_end,
-                }));
-            }
+            self.check_work(k - 1, t_end)?;
             let tk = if k == n { t_end } else { t + k as f64 * h };
             match self
                 .solver

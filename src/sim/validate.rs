@@ -45,6 +45,22 @@ impl Simulation {
         self.max_internal_steps
     }
 
+    /// The work bound of one doStep, checked before each internal step: after `taken`
+    /// steps, one more is allowed below `max_internal_steps`; otherwise the doStep stops at
+    /// the last step taken with [`SimError::WorkLimit`]. Used by the adaptive and the
+    /// real-time loop.
+    pub(super) fn check_work(&mut self, taken: u64, t_end: f64) -> Result<(), SimError> {
+        if taken < self.max_internal_steps {
+            return Ok(());
+        }
+        let t = self.solver.t();
+        Err(self.stop_at_last_step(SimError::WorkLimit {
+            limit: self.max_internal_steps,
+            t,
+            t_end,
+        }))
+    }
+
     /// Ends a doStep early: the FMU time and the last successful time become those of the
     /// last accepted step, and `e` is returned for the caller to pass on.
     pub(super) fn stop_at_last_step(&mut self, e: SimError) -> SimError {
