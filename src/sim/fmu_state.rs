@@ -1,0 +1,364 @@
+//! The simulation's FMU state: a complete plain-data snapshot ([`SimState`]), restoring it
+//! in place or rebuilding from it, and its byte layout (parameters, inputs, solver
+//! snapshot) inside the versioned container of [`super::codec`].
+
+use super::codec::{DecodeError, Reader, Writer};
+use super::error::{solver_err, SimError};
+use super::init::{InitReport, Initialization};
+use super::settings::SolverSettings;
+use super::validate::DEFAULT_MAX_INTERNAL_STEPS;
+use super::validity::Monitor;
+use super::{realtime, Simulation};
+use crate::fmt_num::Short;
+use crate::gear::{FrictionParams, GearData};
+use crate::radau5::{Radau5, Snapshot};
+use crate::rotor::{FrictionLaw, GearedRotor, Inputs, Params, RotorData, RotorProblem, NY};
+use nalgebra::SVector;
+
+/// The model state at initialisation; replayed when a serialized state is loaded, so that
+/// whatever `GearedRotor::initialize` sets internally (e.g. the gap offset g0) is rebuilt
+/// bit-identically without reaching into the model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct InitRecord {
+    pub(super) params: Params,
+    pub(super) inputs: Inputs,
+    pub(super) t_start: f64,
+    /// The consistent initial state (recomputed by the replay for `Rest`, serialized for
+    /// the others, whose computation is not repeated).
+    pub(super) y0: SVector<f64, NY>,
+    /// How y0 was set.
+    pub(super) initialization: Initialization,
+}
+
+/// A complete, plain-data snapshot of a [`Simulation`].
+#[derive(Clone)]
+pub struct SimState {
+    pub(super) solver: Snapshot<NY>,
+    pub(super) t_comm: f64,
+    pub(super) model: GearedRotor,
+    pub(super) settings: SolverSettings,
+    pub(super) init: InitRecord,
+    pub(super) inputs: Inputs,
+    pub(super) inputs_ref: Inputs,
+    pub(super) der_set: [bool; 2],
+    pub(super) restart_pending: bool,
+    pub(super) contact_lost: bool,
+    pub(super) last_successful_time: f64,
+    pub(super) validity: Monitor,
+    /// Real-time mode (`realtime`): the fixed internal step bound, 0 = adaptive.
+    pub(super) h_fixed: f64,
+}
+
+impl Simulation {
+    /// A complete snapshot (plain data; restoring it continues bit-identically).
+    pub fn state(&self) -> SimState {
+        SimState {
+            solver: self.solver.snapshot(),
+            t_comm: self.t_comm,
+            model: self.problem.model.clone(),
+            settings: self.settings,
+            init: self.init,
+            inputs: *self.problem.model.inputs(),
+            inputs_ref: self.inputs_ref,
+            der_set: self.der_set,
+            restart_pending: self.restart_pending,
+            contact_lost: self.contact_lost,
+            last_successful_time: self.last_successful_time,
+            validity: self.validity,
+            h_fixed: self.h_fixed,
+        }
+    }
+
+    /// Restores a snapshot in place when it belongs to the same parameter set and settings,
+    /// else rebuilds the simulation from it.
+    ///
+    /// # Errors
+    /// Rebuilding failed (cannot happen for a state this build produced).
+    pub fn restore(&mut self, s: &SimState) -> Result<(), SimError> {
+        if s.settings == self.settings && s.init == self.init {
+            self.problem.model = s.model.clone();
+            self.solver.restore(&s.solver);
+            self.set_comm(s.t_comm);
+            self.der_set = s.der_set;
+            self.inputs_ref = s.inputs_ref;
+            self.restart_pending = s.restart_pending;
+            self.contact_lost = s.contact_lost;
+            self.last_successful_time = s.last_successful_time;
+            self.validity = s.validity;
+            self.h_fixed = s.h_fixed;
+        } else {
+            *self = Simulation::from_state(s)?;
+        }
+        Ok(())
+    }
+
+    /// Builds a simulation from a snapshot.
+    ///
+    /// # Errors
+    /// Invalid settings or a stepper that cannot be constructed.
+    pub fn from_state(s: &SimState) -> Result<Self, SimError> {
+        s.settings.validate()?;
+        let mut problem = RotorProblem {
+            model: s.model.clone(),
+        };
+        let mut solver = Radau5::new(
+            &mut problem,
+            s.settings.options(),
+            s.init.t_start,
+            s.init.y0,
+        )
+        .map_err(|e| solver_err(e, s.init.t_start))?;
+        solver.restore(&s.solver);
+        let mut sim = Simulation {
+            problem,
+            solver,
+            t_comm: s.t_comm,
+            y_comm: SVector::zeros(),
+            settings: s.settings,
+            init: s.init,
+            der_set: s.der_set,
+            inputs_ref: s.inputs_ref,
+            restart_pending: s.restart_pending,
+            contact_lost: s.contact_lost,
+            last_successful_time: s.last_successful_time,
+            validity: s.validity,
+            init_report: InitReport::default(),
+            max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
+            h_fixed: s.h_fixed,
+        };
+        sim.set_comm(s.t_comm);
+        Ok(sim)
+    }
+}
+
+pub(super) fn write_params(w: &mut Writer, p: &Params) {
+    let g = &p.gear;
+    w.i32(g.z1);
+    w.i32(g.z2);
+    for x in [g.m_n, g.alpha_n, g.beta, g.b, g.x1, g.x2, g.ha_coef, g.a_w] {
+        w.f64(x);
+    }
+    for r in [&p.rotor1, &p.rotor2] {
+        w.f64(r.m);
+        w.f64(r.j);
+        for x in r.k.iter().chain(r.d.iter()) {
+            w.f64(*x);
+        }
+    }
+    w.f64(p.d_phi);
+    w.f64(p.mu);
+    w.f64(p.psi0);
+    w.i32(p.friction_law.code());
+    w.f64(p.omega1_filter_hz);
+    let fp = &p.friction;
+    for x in [
+        fp.v_reg, fp.eta_oil, fp.ra, fp.x_l, fp.e1, fp.nu1, fp.e2, fp.nu2,
+    ] {
+        w.f64(x);
+    }
+}
+
+pub(super) fn read_params(r: &mut Reader) -> Result<Params, DecodeError> {
+    let z1 = r.i32("z1")?;
+    let z2 = r.i32("z2")?;
+    let mut g = [0.0; 8];
+    for x in g.iter_mut() {
+        *x = r.finite("gear data")?;
+    }
+    let gear = GearData {
+        z1,
+        z2,
+        m_n: g[0],
+        alpha_n: g[1],
+        beta: g[2],
+        b: g[3],
+        x1: g[4],
+        x2: g[5],
+        ha_coef: g[6],
+        a_w: g[7],
+    };
+    let mut rot = [RotorData {
+        m: 0.0,
+        j: 0.0,
+        k: [0.0; 3],
+        d: [0.0; 3],
+    }; 2];
+    for rd in rot.iter_mut() {
+        rd.m = r.finite("rotor mass")?;
+        rd.j = r.finite("rotor inertia")?;
+        for k in rd.k.iter_mut() {
+            *k = r.finite("bearing stiffness")?;
+        }
+        for d in rd.d.iter_mut() {
+            *d = r.finite("bearing damping")?;
+        }
+    }
+    let d_phi = r.finite("d_phi")?;
+    let mu = r.finite("mu")?;
+    let psi0 = r.finite("psi0")?;
+    let code = r.i32("friction_law")?;
+    let Some(friction_law) = FrictionLaw::from_code(code) else {
+        return Err(DecodeError {
+            message: format!("unknown friction law {code}"),
+        });
+    };
+    let omega1_filter_hz = r.finite("omega1_filter_frequency")?;
+    let mut fp = [0.0; 8];
+    for x in fp.iter_mut() {
+        *x = r.finite("friction law parameters")?;
+    }
+    let friction = FrictionParams {
+        v_reg: fp[0],
+        eta_oil: fp[1],
+        ra: fp[2],
+        x_l: fp[3],
+        e1: fp[4],
+        nu1: fp[5],
+        e2: fp[6],
+        nu2: fp[7],
+    };
+    Ok(Params {
+        gear,
+        rotor1: rot[0],
+        rotor2: rot[1],
+        d_phi,
+        mu,
+        psi0,
+        friction_law,
+        omega1_filter_hz,
+        friction,
+    })
+}
+
+pub(super) fn write_inputs(w: &mut Writer, i: &Inputs) {
+    for x in [i.omega1, i.omega1_der, i.t_load, i.t_load_der, i.t_ref] {
+        w.f64(x);
+    }
+}
+
+pub(super) fn read_inputs(r: &mut Reader) -> Result<Inputs, DecodeError> {
+    Ok(Inputs {
+        omega1: r.finite("omega1")?,
+        omega1_der: r.finite("omega1 derivative")?,
+        t_load: r.finite("T_load")?,
+        t_load_der: r.finite("T_load derivative")?,
+        t_ref: r.finite("input reference time")?,
+    })
+}
+
+impl SimState {
+    /// Time of this snapshot.
+    pub fn last_successful_time(&self) -> f64 {
+        self.last_successful_time
+    }
+
+    /// Appends the payload (not sealed; the FMU layer adds magic, version, GUID, checksum).
+    pub fn write(&self, w: &mut Writer) {
+        write_params(w, &self.init.params);
+        write_inputs(w, &self.init.inputs);
+        w.f64(self.init.t_start);
+        w.f64(self.settings.rtol);
+        w.f64(self.settings.h_max);
+        let p = self.model.params();
+        w.f64(p.mu);
+        w.f64(p.d_phi);
+        write_inputs(w, &self.inputs);
+        write_inputs(w, &self.inputs_ref);
+        w.bool(self.der_set[0]);
+        w.bool(self.der_set[1]);
+        w.bool(self.restart_pending);
+        w.bool(self.contact_lost);
+        w.f64(self.last_successful_time);
+        w.f64(self.t_comm);
+        w.f64(self.h_fixed);
+        w.bytes(&self.solver.to_bytes());
+        w.i32(self.init.initialization.code());
+        if self.init.initialization != Initialization::Rest {
+            for x in self.init.y0.iter() {
+                w.f64(*x);
+            }
+        }
+        w.u32(self.validity.bits());
+        w.f64(self.validity.t_checked);
+    }
+
+    /// Reads what [`SimState::write`] wrote; the model is rebuilt by replaying its
+    /// initialisation, then the tunables and inputs of the snapshot are applied.
+    ///
+    /// # Errors
+    /// Truncated or inconsistent data, or parameters the model rejects.
+    pub fn read(r: &mut Reader) -> Result<SimState, SimError> {
+        let params = read_params(r)?;
+        let inputs0 = read_inputs(r)?;
+        let t_start = r.finite("start time")?;
+        let settings = SolverSettings {
+            rtol: r.finite("rtol")?,
+            h_max: r.finite("h_max")?,
+        };
+        settings.validate()?;
+        let mu = r.finite("mu")?;
+        let d_phi = r.finite("d_phi")?;
+        let inputs = read_inputs(r)?;
+        let inputs_ref = read_inputs(r)?;
+        let der_set = [r.bool("derivative flag")?, r.bool("derivative flag")?];
+        let restart_pending = r.bool("restart flag")?;
+        let contact_lost = r.bool("contact flag")?;
+        let last_successful_time = r.finite("last successful time")?;
+        let t_comm = r.finite("FMU time")?;
+        let h_fixed = r.finite("h_fixed")?;
+        realtime::check_h_fixed(h_fixed)?;
+        let solver =
+            Snapshot::<NY>::from_bytes(r.bytes("solver snapshot")?).map_err(|e| DecodeError {
+                message: format!("RADAU5 snapshot: {e:?}"),
+            })?;
+        // The FMU time lies on the stepper's last step (look-ahead) or at its end.
+        if !(t_comm <= solver.t() && (t_comm > solver.t_prev() || t_comm == solver.t())) {
+            return Err(DecodeError {
+                message: format!(
+                    "FMU time {} outside the solver's last step ending at {}",
+                    Short(t_comm),
+                    Short(solver.t())
+                ),
+            }
+            .into());
+        }
+        let initialization =
+            Initialization::from_code(r.i32("initialization")?).ok_or_else(|| DecodeError {
+                message: "unknown initialization".into(),
+            })?;
+        let mut init = InitRecord {
+            params,
+            inputs: inputs0,
+            t_start,
+            y0: SVector::zeros(),
+            initialization,
+        };
+        let (mut problem, mut y0) = Simulation::replay(&init)?;
+        if initialization != Initialization::Rest {
+            for x in y0.iter_mut() {
+                *x = r.finite("initial state")?;
+            }
+        }
+        init.y0 = y0;
+        let bits = r.u32("validity flags")?;
+        let validity = Monitor::from_bits(bits, r.finite("validity check time")?);
+        problem.model.set_mu(mu)?;
+        problem.model.set_d_phi(d_phi)?;
+        problem.model.set_inputs(inputs);
+        Ok(SimState {
+            solver,
+            t_comm,
+            model: problem.model,
+            settings,
+            init,
+            inputs,
+            inputs_ref,
+            der_set,
+            restart_pending,
+            contact_lost,
+            last_successful_time,
+            validity,
+            h_fixed,
+        })
+    }
+}

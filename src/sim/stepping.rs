@@ -1,0 +1,233 @@
+//! Stepping across communication points: `Simulation::do_step` continues the stepper,
+//! stops internal steps at the mesh events the `mesh_events` part predicts, looks ahead
+//! across points while the input function stays the same, and reports what happened.
+
+use super::error::{solver_err, SimError};
+use super::mesh_events::MESH_EVENT_STOPS;
+use super::validity::{self, Violation};
+use super::{closed_loop, validate, Simulation};
+use crate::radau5;
+use crate::radau5::Statistics;
+use crate::rotor::{idx, NY};
+use nalgebra::SVector;
+
+/// Step across communication points while the input function is unchanged (see the module
+/// docs). Measured (default case, rtol 1e-6, steady state, H = 1e-5 s): without 5.1 ms CPU
+/// and ~1020 internal steps per simulated 10 ms; with: see docs/development.md "Benchmarks".
+pub(super) const LOOKAHEAD: bool = true;
+
+/// Stop time given to the stepper in look-ahead mode: far enough never to be reached,
+/// finite so that `t_stop - t` stays finite.
+pub(super) const NO_STOP: f64 = f64::MAX;
+
+/// Tolerance for `|currentCommunicationPoint - t| `: 1e-8 of the step, plus a few ulps of
+/// t (masters compute `start + n h` or sum steps; both differ from ours by round-off only).
+pub fn comm_tolerance(t: f64, h: f64) -> f64 {
+    1e-8 * h.abs() + 16.0 * f64::EPSILON * t.abs()
+}
+
+/// What happened during one communication interval (for logging).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepReport {
+    /// RADAU5 counters of this interval only.
+    pub stats: Statistics,
+    /// How often `contact_lost` (lambda < 0) changed at internal steps.
+    pub contact_changes: u32,
+    /// Time of the first change in this interval (NaN if none).
+    pub first_change_time: f64,
+    /// `contact_lost` at the end of the interval.
+    pub contact_lost: bool,
+    /// Whether f changed at the start (new inputs: `Radau5::refresh`; new tunables or after
+    /// a failure: `Radau5::restart`).
+    pub restarted: bool,
+    /// Episodes outside the model's validity that started in this interval (policy
+    /// [`OnViolation::Warn`]), in the order found.
+    pub violations: [Option<Violation>; validity::MAX_REPORTED],
+    /// Further ones not listed.
+    pub violations_dropped: u32,
+}
+
+impl Simulation {
+    /// Integrates from the current time to exactly `ccp + h`, continuing the stepper.
+    ///
+    /// # Errors
+    /// [`SimError::StepSize`], [`SimError::CommunicationPoint`] (nothing changed), or
+    /// [`SimError::Solver`] (also "step size too small" when a step cannot advance t) or
+    /// [`SimError::WorkLimit`] (more than `max_internal_steps` steps): the state is then
+    /// that of the last accepted step.
+    pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<StepReport, SimError> {
+        let t = self.time();
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(SimError::StepSize { h, t });
+        }
+        let tol = comm_tolerance(t, h);
+        if !ccp.is_finite() || (ccp - t).abs() > tol {
+            return Err(SimError::CommunicationPoint {
+                expected: t,
+                got: ccp,
+                tolerance: tol,
+            });
+        }
+        let t_end = ccp + h;
+        if t_end <= t {
+            return Err(SimError::StepSize { h, t });
+        }
+        if self.h_fixed > 0.0 {
+            return self.do_step_fixed(t, t_end);
+        }
+        let stats0 = *self.solver.stats();
+        let mut report = StepReport {
+            first_change_time: f64::NAN,
+            ..StepReport::default()
+        };
+        // The right-hand side changes at t if the input function changed: restart the
+        // stepper (fresh f, Jacobian marked stale, h kept). Re-setting the same values (or
+        // values that continue the same ramp) costs nothing.
+        let change = self.change_pending();
+        self.inputs_ref = *self.problem.model.inputs();
+        if change {
+            // The setters have already retaken a look-ahead step (`sync`); a no-op then.
+            if let Err(e) = self.sync() {
+                self.last_successful_time = t;
+                return Err(e);
+            }
+            // lambda is algebraic: a new d_phi, mu or T_load moves it at once, so go on
+            // from its consistent value (hidden constraint, model.md §7), not the stale one.
+            let mut y = *self.solver.y();
+            match self.problem.model.consistent_lambda(t, &y) {
+                Ok(l) => y[idx::LAMBDA] = l,
+                Err(e) => {
+                    self.last_successful_time = t;
+                    return Err(SimError::Model(e));
+                }
+            }
+            // Inputs enter f additively (the filter's reference, the load torque; J sees
+            // T_load only in the E_load quadrature row, T_load omega2, which the simplified
+            // Newton iteration absorbs), so J and the LU pair stay usable: only f is
+            // re-evaluated (`Radau5::refresh`). A new tunable changes J, and a failed step
+            // leaves nothing to trust: full restart.
+            let r = if self.restart_pending {
+                self.solver.restart(&mut self.problem, y, None)
+            } else {
+                self.solver.refresh(&mut self.problem, y)
+            };
+            if let Err(e) = r {
+                self.last_successful_time = t;
+                return Err(solver_err(e, t));
+            }
+            self.set_comm(t);
+            self.restart_pending = false;
+            report.restarted = true;
+        }
+        // A derivative set at this point applies until the master sets a new one or a value.
+        self.der_set = [false; 2];
+        // Look ahead unless the inputs changed here: a master that changes them at every
+        // point would pay for a retake at every point.
+        let lookahead = LOOKAHEAD && !report.restarted;
+        // Mesh-event stops pay when the steps are not already ended by communication points
+        // closer than the mean spacing of the events (6 per base pitch): there, extra stops
+        // would only force new LU decompositions (measured at H = 1e-5 s without look-ahead:
+        // 5.5 ms per 10 ms without, 8-11 ms with); without look-ahead they are used from
+        // half the spacing up (H = 1e-4 s: see `closed_loop`).
+        let rate = self.problem.model.geometry().rb1 * self.solver.y()[idx::OMEGA1];
+        let spacing = self.problem.model.geometry().p_bt / (6.0 * rate);
+        let use_events = MESH_EVENT_STOPS
+            && rate > 0.0
+            && (lookahead || t_end - t > closed_loop::EVENT_STOPS_MIN_SPAN * spacing);
+        let horizon = if lookahead { NO_STOP } else { t_end };
+        // Validity (validity.rs): conditions of the start state, then the end of a
+        // look-ahead step of the last interval before the next step replaces its polynomial.
+        if self.validity.pending_lift_off || self.validity.pending_reversal {
+            self.start_violations(&mut report)?;
+        }
+        let ts = self.solver.t();
+        if ts > self.validity.t_checked && ts <= t_end {
+            let y = *self.solver.y();
+            self.check_validity(ts, &y, &mut report)?;
+        }
+        self.solver.reset_step_count();
+        let mut steps = 0u64;
+        while self.solver.t() < t_end {
+            // Bounded work per doStep (stop where it got, a defined state) and progress:
+            // every step advances time by more than the resolution of t (radau5.f's rule)
+            // or ends on t_end, else "step size too small".
+            let t_before = self.solver.t();
+            self.check_work(steps, t_end)?;
+            steps += 1;
+            let (target, at_event) = if lookahead {
+                let target = if use_events {
+                    self.next_mesh_event(horizon)
+                } else {
+                    horizon
+                };
+                (target, target < horizon)
+            } else {
+                self.closed_loop_stop(t_end, use_events)
+            };
+            let r = self.solver.step(&mut self.problem, target).and_then(|tn| {
+                if use_events && at_event && tn == target {
+                    self.f_after_event()?;
+                }
+                Ok(tn)
+            });
+            match r {
+                Ok(tn) if !validate::advanced(t_before, tn, t_end) => {
+                    let e = radau5::Error::StepSizeTooSmall {
+                        t: t_before,
+                        h: tn - t_before,
+                    };
+                    return Err(self.stop_at_last_step(solver_err(e, t_before)));
+                }
+                Ok(tn) if tn <= t_end => {
+                    // Cheap test on the stepper's lambda; a change of sign is confirmed with
+                    // the consistent lambda (see `output_state`), as the outputs report it.
+                    let y = *self.solver.y();
+                    self.track_contact(tn, &y, &mut report);
+                    self.check_validity(tn, &y, &mut report)?;
+                }
+                // A look-ahead step: its end belongs to a later interval; the state at
+                // t_end is checked below.
+                Ok(_) => {}
+                Err(e) => {
+                    // The stepper keeps its last accepted step; restart from there before
+                    // the next step (its history after a failure is not trusted).
+                    let ts = self.solver.t();
+                    self.set_comm(ts);
+                    self.last_successful_time = ts;
+                    self.restart_pending = true;
+                    return Err(solver_err(e, ts));
+                }
+            }
+        }
+        self.set_comm(t_end);
+        if self.ahead() {
+            let y = self.y_comm;
+            self.track_contact(t_end, &y, &mut report);
+        }
+        if self.validity.t_checked < t_end {
+            let y = self.y_comm;
+            self.check_validity(t_end, &y, &mut report)?;
+        }
+        self.last_successful_time = t_end;
+        report.stats = self.solver.stats().since(&stats0);
+        report.contact_lost = self.contact_lost;
+        Ok(report)
+    }
+
+    /// Updates `contact_lost` (lambda < 0) at a state on the trajectory and counts a change
+    /// in the report. The stepper's lambda decides cheaply; a change is confirmed with the
+    /// consistent lambda (see `output_state`), as the outputs report it.
+    pub(super) fn track_contact(&mut self, t: f64, y: &SVector<f64, NY>, report: &mut StepReport) {
+        let mut lost = y[idx::LAMBDA] < 0.0;
+        if lost != self.contact_lost {
+            lost = self.output_state(t, y)[idx::LAMBDA] < 0.0;
+        }
+        if lost != self.contact_lost {
+            if report.contact_changes == 0 {
+                report.first_change_time = t;
+            }
+            report.contact_changes += 1;
+            self.contact_lost = lost;
+        }
+    }
+}
