@@ -51,7 +51,7 @@ pub enum SimError {
     /// The requested initial state (`initialization`) could not be set.
     Init(InitError),
     /// The run left the model's validity (lift-off, drive reversal) and the policy is
-    /// [`OnViolation::Discard`]: the FMU time is the located instant.
+    /// [`OnViolation::Discard`](super::OnViolation::Discard): the FMU time is the located instant.
     Validity(Violation),
     /// The doStep took `max_internal_steps` internal steps without reaching its end; the
     /// state is that of the last of them (`t`).

@@ -41,7 +41,7 @@ pub struct StepReport {
     /// a failure: `Radau5::restart`).
     pub restarted: bool,
     /// Episodes outside the model's validity that started in this interval (policy
-    /// [`OnViolation::Warn`]), in the order found.
+    /// [`OnViolation::Warn`](super::OnViolation::Warn)), in the order found.
     pub violations: [Option<Violation>; validity::MAX_REPORTED],
     /// Further ones not listed.
     pub violations_dropped: u32,
