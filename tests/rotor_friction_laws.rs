@@ -419,7 +419,7 @@ fn bad_law_parameters_are_rejected_by_name() {
 
 #[test]
 fn serialized_state_keeps_the_law_and_its_parameters() {
-    use geared_rotor::sim::codec::{Reader, Writer};
+    use geared_rotor::bytes::{Reader, Writer};
     use geared_rotor::sim::SimState;
     let mut p = with_law(FrictionLaw::LocalEhl);
     p.friction.eta_oil = 0.071;

@@ -186,7 +186,7 @@ fn snapshot_while_ahead_restores_bit_identically() {
         k0 += 1;
     }
     let snap = a.state();
-    let mut w = geared_rotor::sim::codec::Writer::default();
+    let mut w = geared_rotor::bytes::Writer::default();
     snap.write(&mut w);
     let bytes = w.buf;
     let run = |s: &mut Simulation| {
@@ -203,7 +203,7 @@ fn snapshot_while_ahead_restores_bit_identically() {
     let first = run(&mut a);
     a.restore(&snap).unwrap();
     let second = run(&mut a);
-    let mut r = geared_rotor::sim::codec::Reader::new(&bytes);
+    let mut r = geared_rotor::bytes::Reader::new(&bytes);
     let decoded = geared_rotor::sim::SimState::read(&mut r).unwrap();
     let mut c = Simulation::from_state(&decoded).unwrap();
     let third = run(&mut c);

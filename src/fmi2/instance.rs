@@ -8,11 +8,11 @@ use super::types::{Fmi2CallbackLogger, Fmi2ComponentEnvironment, Fmi2Status};
 use super::variables::{
     self, Causality, Var, VarType, Variability, Variable, LOG_CATEGORIES, N_VARIABLES, VARIABLES,
 };
+use crate::bytes::{self as codec, DecodeError, Reader, Writer};
 use crate::fmt_num::Short;
 use crate::gear::FrictionParams;
 use crate::gear::{GearData, ParamError};
 use crate::rotor::{FrictionLaw, Outputs, Params, RotorData};
-use crate::sim::codec::{self, DecodeError, Reader, Writer};
 use crate::sim::{
     Initialization, Input, OnViolation, SimError, SimState, Simulation, SolverSettings, RTOL_MAX,
     RTOL_MIN,

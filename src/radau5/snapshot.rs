@@ -11,7 +11,7 @@ use super::options::Params;
 use super::state::{Action, State};
 use super::stepper::Radau5;
 use super::{SnapshotError, Statistics};
-use crate::hash::fnv1a64;
+use crate::bytes::{fnv1a64, Reader, Writer};
 
 const MAGIC: [u8; 8] = *b"RADAU5SN";
 /// 2: `y_prev`, `f_prev` (for `Radau5::retake`) after `t_prev`.
@@ -104,19 +104,17 @@ pub(super) trait Io {
     }
 }
 
-struct Writer<'a>(&'a mut Vec<u8>);
-
-impl Io for Writer<'_> {
+impl Io for Writer {
     fn f64(&mut self, v: &mut f64) -> Result<(), SnapshotError> {
-        self.0.extend_from_slice(&v.to_bits().to_le_bytes());
+        Writer::f64(self, *v);
         Ok(())
     }
     fn u64(&mut self, v: &mut u64) -> Result<(), SnapshotError> {
-        self.0.extend_from_slice(&v.to_le_bytes());
+        Writer::u64(self, *v);
         Ok(())
     }
     fn u8(&mut self, v: &mut u8) -> Result<(), SnapshotError> {
-        self.0.push(*v);
+        Writer::u8(self, *v);
         Ok(())
     }
 }
@@ -139,39 +137,31 @@ impl Io for Counter {
     }
 }
 
-struct Reader<'a> {
-    buf: &'a [u8],
-    pos: usize,
+/// The next `K` bytes of `r`, or [`SnapshotError::Truncated`].
+fn take<const K: usize>(r: &mut Reader<'_>, len: usize) -> Result<[u8; K], SnapshotError> {
+    r.array::<K>().ok_or(SnapshotError::Truncated {
+        needed: r.position() + K,
+        found: len,
+    })
 }
 
-impl Reader<'_> {
-    fn take<const K: usize>(&mut self) -> Result<[u8; K], SnapshotError> {
-        let end = self.pos + K;
-        let s = self
-            .buf
-            .get(self.pos..end)
-            .ok_or(SnapshotError::Truncated {
-                needed: end,
-                found: self.buf.len(),
-            })?;
-        let mut out = [0u8; K];
-        out.copy_from_slice(s);
-        self.pos = end;
-        Ok(out)
-    }
+/// A reader over a whole snapshot buffer (the length for the error message).
+struct SnapshotReader<'a> {
+    r: Reader<'a>,
+    len: usize,
 }
 
-impl Io for Reader<'_> {
+impl Io for SnapshotReader<'_> {
     fn f64(&mut self, v: &mut f64) -> Result<(), SnapshotError> {
-        *v = f64::from_bits(u64::from_le_bytes(self.take::<8>()?));
+        *v = f64::from_bits(u64::from_le_bytes(take::<8>(&mut self.r, self.len)?));
         Ok(())
     }
     fn u64(&mut self, v: &mut u64) -> Result<(), SnapshotError> {
-        *v = u64::from_le_bytes(self.take::<8>()?);
+        *v = u64::from_le_bytes(take::<8>(&mut self.r, self.len)?);
         Ok(())
     }
     fn u8(&mut self, v: &mut u8) -> Result<(), SnapshotError> {
-        *v = self.take::<1>()?[0];
+        *v = take::<1>(&mut self.r, self.len)?[0];
         Ok(())
     }
 }
@@ -308,18 +298,19 @@ impl<const N: usize> Snapshot<N> {
 
     /// Serialises to the versioned little-endian layout described in the module docs.
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut out = Vec::with_capacity(Self::serialized_len());
-        out.extend_from_slice(&MAGIC);
-        out.extend_from_slice(&VERSION.to_le_bytes());
-        out.extend_from_slice(&(N as u32).to_le_bytes());
-        let payload_len = (Self::serialized_len() - HEADER_LEN - CHECKSUM_LEN) as u64;
-        out.extend_from_slice(&payload_len.to_le_bytes());
+        let mut w = Writer {
+            buf: Vec::with_capacity(Self::serialized_len()),
+        };
+        w.buf.extend_from_slice(&MAGIC);
+        w.u32(VERSION);
+        w.u32(N as u32);
+        w.u64((Self::serialized_len() - HEADER_LEN - CHECKSUM_LEN) as u64);
         let mut s = self.state.clone();
         // Writing never fails.
-        let _ = visit(&mut Writer(&mut out), &mut s);
-        let sum = fnv1a64(&out);
-        out.extend_from_slice(&sum.to_le_bytes());
-        out
+        let _ = visit(&mut w, &mut s);
+        let sum = fnv1a64(&w.buf);
+        w.u64(sum);
+        w.buf
     }
 
     /// Reads a buffer written by [`Snapshot::to_bytes`].
@@ -338,19 +329,20 @@ impl<const N: usize> Snapshot<N> {
         if bytes[..8] != MAGIC {
             return Err(SnapshotError::BadMagic);
         }
-        let mut r = Reader { buf: bytes, pos: 8 };
-        let version = u32::from_le_bytes(r.take::<4>()?);
+        let mut r = Reader::new(bytes);
+        take::<8>(&mut r, bytes.len())?;
+        let version = u32::from_le_bytes(take::<4>(&mut r, bytes.len())?);
         if version != VERSION {
             return Err(SnapshotError::UnsupportedVersion { found: version });
         }
-        let n = u32::from_le_bytes(r.take::<4>()?);
+        let n = u32::from_le_bytes(take::<4>(&mut r, bytes.len())?);
         if n as usize != N {
             return Err(SnapshotError::DimensionMismatch {
                 expected: N as u32,
                 found: n,
             });
         }
-        let payload_len = u64::from_le_bytes(r.take::<8>()?);
+        let payload_len = u64::from_le_bytes(take::<8>(&mut r, bytes.len())?);
         if payload_len != (total - HEADER_LEN - CHECKSUM_LEN) as u64 {
             return Err(SnapshotError::InvalidField {
                 name: "payload length",
@@ -374,7 +366,13 @@ impl<const N: usize> Snapshot<N> {
             return Err(SnapshotError::Checksum);
         }
         let mut state = zero_state::<N>();
-        visit(&mut r, &mut state)?;
+        visit(
+            &mut SnapshotReader {
+                r,
+                len: bytes.len(),
+            },
+            &mut state,
+        )?;
         Ok(Snapshot { state })
     }
 }

@@ -1,8 +1,8 @@
 //! Everything that can go wrong in the simulation layer, as one typed enum.
 
-use super::codec::DecodeError;
 use super::init::InitError;
 use super::validity::Violation;
+use crate::bytes::DecodeError;
 use crate::fmt_num::Short;
 use crate::gear::ParamError;
 use crate::radau5;

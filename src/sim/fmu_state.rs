@@ -1,14 +1,14 @@
 //! The simulation's FMU state: a complete plain-data snapshot ([`SimState`]), restoring it
 //! in place or rebuilding from it, and its byte layout (parameters, inputs, solver
-//! snapshot) inside the versioned container of [`super::codec`].
+//! snapshot) inside the versioned container of [`crate::bytes`].
 
-use super::codec::{DecodeError, Reader, Writer};
 use super::error::{solver_err, SimError};
 use super::init::{InitReport, Initialization};
 use super::settings::SolverSettings;
 use super::validate::DEFAULT_MAX_INTERNAL_STEPS;
 use super::validity::Monitor;
 use super::{realtime, Simulation};
+use crate::bytes::{DecodeError, Reader, Writer};
 use crate::fmt_num::Short;
 use crate::gear::{FrictionParams, GearData};
 use crate::radau5::{Radau5, Snapshot};

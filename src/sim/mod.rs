@@ -19,13 +19,12 @@
 //!   the inputs enter f additively); new tunables restart the stepper;
 //! - tunable parameters (mu, d_phi), per-component absolute tolerances from physical scales
 //!   ([`SCALES`]), output derivatives from the dense output;
-//! - a plain-data snapshot ([`SimState`]) and its versioned serialisation ([`codec`]);
+//! - a plain-data snapshot ([`SimState`]) and its versioned serialisation ([`crate::bytes`]);
 //! - on a solver failure the state stays at the last accepted step (the "last successful
 //!   time" of FMI's `fmi2Discard`);
 //! - a real-time mode with equal, bounded work per doStep ([`realtime`], `h_fixed > 0`).
 
 mod closed_loop;
-pub mod codec;
 mod error;
 mod fmu_state;
 pub mod init;
@@ -45,11 +44,11 @@ pub use settings::{SolverSettings, MAX_STEPS_PER_INTERVAL, PHI1_RTOL_FACTOR, RTO
 pub use stepping::{comm_tolerance, StepReport};
 pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
 
+use crate::bytes::DecodeError;
 use crate::radau5::{Radau5, Retake, Statistics};
 use crate::rotor::{idx, GearedRotor, Inputs, Params, NY};
 /// Moved to `rotor` (shared with `periodic`); re-exported here for existing code.
 pub use crate::rotor::{RotorProblem, SCALES};
-use codec::DecodeError;
 use error::solver_err;
 use fmu_state::InitRecord;
 pub use init::{InitError, InitReport, Initialization};

@@ -1,6 +1,7 @@
-//! Byte layout helpers for the serialized FMU state: little-endian primitives, and the
-//! container `magic | version | guid | payload length | payload | checksum` whose reader
-//! rejects a foreign or corrupted buffer with a message instead of panicking.
+//! The crate's one byte reader/writer: little-endian primitives ([`Writer`], [`Reader`],
+//! used by the FMU state and by the RADAU5 snapshot), and the FMU-state container
+//! `magic | version | guid | payload length | payload | checksum` whose reader rejects a
+//! foreign or corrupted buffer with a message instead of panicking.
 
 use std::fmt;
 
@@ -62,6 +63,10 @@ impl Writer {
     pub fn i32(&mut self, x: i32) {
         self.buf.extend_from_slice(&x.to_le_bytes());
     }
+    /// Appends a byte.
+    pub fn u8(&mut self, x: u8) {
+        self.buf.push(x);
+    }
     /// Appends a bool as one byte.
     pub fn bool(&mut self, x: bool) {
         self.buf.push(u8::from(x));
@@ -97,10 +102,21 @@ impl<'a> Reader<'a> {
         }
     }
     fn arr<const K: usize>(&mut self, what: &str) -> Result<[u8; K], DecodeError> {
-        let s = self.take(K, what)?;
+        self.array()
+            .ok_or_else(|| err(format!("truncated while reading {what}")))
+    }
+    /// The next `K` bytes, or None (nothing consumed) if fewer are left: for callers with
+    /// error types of their own.
+    pub fn array<const K: usize>(&mut self) -> Option<[u8; K]> {
+        let s = self.buf.get(self.pos..self.pos.checked_add(K)?)?;
         let mut a = [0u8; K];
         a.copy_from_slice(s);
-        Ok(a)
+        self.pos += K;
+        Some(a)
+    }
+    /// Bytes consumed so far.
+    pub fn position(&self) -> usize {
+        self.pos
     }
     /// Reads an f64.
     ///
