@@ -25,9 +25,9 @@
 //!
 //! Run: `cargo run --release --example closed_loop_bench [repeats] [case-filter] [cpu]`.
 
-use geared_rotor::fmi2::instance::Instance;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{Causality, VarType, GUID, VARIABLES};
+use geared_rotor::fmi2::Instance;
 use geared_rotor::fmi2::*;
 use geared_rotor::radau5::Statistics;
 use std::f64::consts::PI;
@@ -124,7 +124,7 @@ impl Fmu {
     fn stats(&self) -> Statistics {
         // SAFETY: fmi2Instantiate returns a boxed Instance; no call is running.
         let inst = unsafe { &*(self.c as *const Instance) };
-        *inst.simulation().expect("initialised").stats()
+        *inst.model().simulation().expect("initialised").stats()
     }
 }
 

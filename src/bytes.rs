@@ -12,7 +12,9 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// 3: `h_fixed` (real-time mode) after the FMU time; the friction law (code 1..=4) and its
 ///    eight parameters after the filter frequency; after the solver bytes the
 ///    initialization code, its initial state (non-rest starts) and the validity monitor.
-pub const VERSION: u32 = 3;
+/// 4: the FMI layer's part first (phase, experiment), then the model's (variable count,
+///    values, input derivatives, simulation flag and snapshot).
+pub const VERSION: u32 = 4;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]

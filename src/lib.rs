@@ -13,6 +13,7 @@
 //! - [`fmt_num`]: short numbers for messages (used by every layer).
 //! - [`hash`]: 64-bit FNV-1a: the checksums of saved states and the GUID (also in `build.rs`).
 
+pub mod binding;
 pub mod bytes;
 pub mod fmi2;
 pub mod fmt_num;

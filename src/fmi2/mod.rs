@@ -1,20 +1,37 @@
-//! The FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe [`instance::Instance`].
+//! The FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe, model-agnostic
+//! [`instance::Instance`] of the one model this library is built for ([`FmuModel`], the
+//! binding in `crate::binding`; the contract is [`model::Model`]).
 //!
 //! Every exported function (standard names, no prefix; all common, all co-simulation and,
 //! as error stubs, all model-exchange functions, because masters refuse libraries that
 //! lack any of them) does only this: check the component pointer, turn C pointers into
 //! slices after NULL checks, call the instance inside `catch_unwind` (a panic must never
 //! cross `extern "C"`), and map the typed result to an `fmi2Status` via
-//! [`instance::FmuError::status`] (the one place where that mapping lives).
+//! [`error::FmuError::status`] (the one place where that mapping lives).
 
 pub mod bounds;
+pub mod error;
 pub mod instance;
+pub mod logging;
+pub mod model;
 #[cfg(test)]
 mod model_description_check;
+pub mod state_machine;
 pub mod types;
 pub mod variables;
 
-use instance::{allowed, Category, FmuError, FmuState, Instance, INSTANCE_MAGIC};
+use instance::INSTANCE_MAGIC;
+use logging::Category;
+use state_machine::allowed;
+
+/// The model behind this library's FMI functions.
+pub type FmuModel = crate::binding::GearedRotorFmu;
+/// An instance of [`FmuModel`].
+pub type Instance = instance::Instance<FmuModel>;
+/// An FMU state of [`FmuModel`].
+pub type FmuState = instance::FmuState<FmuModel>;
+/// The errors of the FMI functions.
+pub type FmuError = error::FmuError<<FmuModel as model::Model>::Error>;
 use std::ffi::{c_int, c_void, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;

@@ -102,6 +102,25 @@ impl fmt::Display for SimError {
 
 impl std::error::Error for SimError {}
 
+impl SimError {
+    /// Whether the error leaves the simulation at its last successful time with a reason a
+    /// master can act on by rolling back and retrying with a smaller step (FMI's
+    /// fmi2Discard, when it comes from a step): the solver could not continue (except for
+    /// an invalid option or a stop time behind t, which are errors of the set-up), the model
+    /// has no consistent state after a change, the work limit, or the run left the model's
+    /// validity with `on_lift_off = discard`.
+    pub fn is_discard(&self) -> bool {
+        match self {
+            SimError::Solver { error, .. } => !matches!(
+                error,
+                radau5::Error::InvalidOption { .. } | radau5::Error::StopTimeBehind { .. }
+            ),
+            SimError::Model(_) | SimError::WorkLimit { .. } | SimError::Validity(_) => true,
+            _ => false,
+        }
+    }
+}
+
 impl From<ParamError> for SimError {
     fn from(e: ParamError) -> Self {
         SimError::Param(e)

@@ -1,0 +1,406 @@
+//! The geared rotor as an FMI model: the one place that knows what the FMU's variables
+//! mean (value store, parameters -> [`Params`](crate::rotor::Params), outputs, calculated parameters, inputs,
+//! tunables), builds and steps the [`Simulation`], writes the model's log messages and its
+//! part of an FMU state. It implements the contract [`Model`] of the model-agnostic FMI
+//! layer (`crate::fmi2`).
+
+mod error;
+mod state;
+pub mod values;
+
+pub use error::BindingError;
+pub use state::BindingState;
+
+use crate::fmi2::bounds;
+use crate::fmi2::logging::{Category, Logger};
+use crate::fmi2::model::{Experiment, Model};
+use crate::fmi2::state_machine::Phase;
+use crate::fmi2::types::Fmi2Status;
+use crate::fmi2::variables::{self, Causality, Var, VarType, Variable};
+use crate::fmt_num::Short;
+use crate::rotor::Outputs;
+use crate::sim::{self, Initialization, Input, SimError, Simulation, RTOL_MAX, RTOL_MIN};
+use values::{input_of, Values};
+
+/// The geared-rotor FMU model: parameter and input values and, once initialised, the
+/// simulation.
+pub struct GearedRotorFmu {
+    values: Values,
+    /// First derivatives of the inputs (omega1, T_load) set by the master.
+    input_der: [f64; 2],
+    sim: Option<Simulation>,
+    /// The simulation is stale w.r.t. `values` (initialisation mode only).
+    dirty: bool,
+    /// The outputs at the current time, computed once per time point (the struct is
+    /// ~0.5 kB: copying it per value reference made a GetReal of all outputs cost as much
+    /// as an internal step).
+    outputs: Option<Outputs>,
+}
+
+fn sim_err(e: SimError) -> BindingError {
+    BindingError::Sim(e)
+}
+
+impl GearedRotorFmu {
+    /// The simulation (after initialisation).
+    pub fn simulation(&self) -> Option<&Simulation> {
+        self.sim.as_ref()
+    }
+
+    fn v(&self, var: Var) -> f64 {
+        self.values[var as usize]
+    }
+
+    /// Builds the simulation from the store if it is stale (initialisation mode).
+    fn ensure_sim(&mut self, exp: &Experiment) -> Result<(), BindingError> {
+        if self.sim.is_some() && !self.dirty {
+            return Ok(());
+        }
+        for name in bounds::CHECKED_AT_INIT {
+            if let Some(var) = variables::by_name(name) {
+                bounds::check(var, self.values[var.var as usize])
+                    .map_err(BindingError::OutOfBounds)?;
+            }
+        }
+        let params = values::params(&self.values).map_err(|e| sim_err(SimError::Param(e)))?;
+        let (settings, _) = values::settings(&self.values, exp);
+        let initialization =
+            values::initialization(&self.values).map_err(|e| sim_err(SimError::Param(e)))?;
+        let mut sim = Simulation::with_initialization(
+            params,
+            settings,
+            exp.start,
+            self.v(Var::omega1),
+            self.v(Var::T_load),
+            initialization,
+        )?;
+        sim.set_h_fixed(self.v(Var::h_fixed))?;
+        if self.input_der[0] != 0.0 {
+            sim.set_input_derivative(Input::Omega1, self.input_der[0])?;
+        }
+        if self.input_der[1] != 0.0 {
+            sim.set_input_derivative(Input::TLoad, self.input_der[1])?;
+        }
+        self.sim = Some(sim);
+        self.dirty = false;
+        self.outputs = None;
+        Ok(())
+    }
+
+    /// The outputs at the current time, cached per time point.
+    fn current_outputs(
+        &mut self,
+        phase: Phase,
+        exp: &Experiment,
+    ) -> Result<&Outputs, BindingError> {
+        if phase == Phase::InitializationMode {
+            self.ensure_sim(exp)?;
+        }
+        if self.outputs.is_none() {
+            let sim = self.sim.as_ref().ok_or_else(|| {
+                BindingError::NotAvailable(
+                    "outputs are not available: the model was not initialised".into(),
+                )
+            })?;
+            self.outputs = Some(sim.outputs());
+        }
+        self.outputs
+            .as_ref()
+            .ok_or_else(|| BindingError::NotAvailable("outputs are not available".into()))
+    }
+
+    fn log_exit_initialization(&self, exp: &Experiment, log: &Logger) {
+        if let (Ok(init), Some(sim)) = (values::initialization(&self.values), self.sim.as_ref()) {
+            let r = sim.init_report();
+            if init == Initialization::Periodic && log.enabled(Category::Solver) {
+                log.log(
+                    Fmi2Status::OK,
+                    Category::Solver,
+                    &format!(
+                        "initialization = periodic: orbit by chord shooting from the static equilibrium, \
+                         {} iterations, scaled residual {:.2e}, largest Floquet multiplier {:.4}, \
+                         {} mesh periods integrated ({} RADAU5 steps at rtol {:e})",
+                        r.iterations, r.residual, r.floquet_max_abs, r.periods_integrated, r.steps, r.rtol
+                    ),
+                );
+            }
+        }
+        let (s, source) = values::settings(&self.values, exp);
+        if log.enabled(Category::Solver) {
+            log.log(
+                Fmi2Status::OK,
+                Category::Solver,
+                &format!(
+                    "RADAU5: rtol = {:e} (from {source}), atol_i = rtol * scale_i with scales {:?}, h_max = {:e} s, start time {} s",
+                    s.rtol,
+                    sim::SCALES,
+                    s.h_max,
+                    Short(exp.start)
+                ),
+            );
+            let h_fixed = self.v(Var::h_fixed);
+            if h_fixed > 0.0 {
+                log.log(
+                    Fmi2Status::OK,
+                    Category::Solver,
+                    &format!(
+                        "real-time mode: h_fixed = {h_fixed:e} s: per doStep of H, ceil(H/h_fixed) equal steps of {} Newton iterations, one Jacobian and LU pair, no error control",
+                        sim::realtime::NEWTON_ITERATIONS
+                    ),
+                );
+            }
+        }
+    }
+}
+
+impl Model for GearedRotorFmu {
+    type Error = BindingError;
+    type State = BindingState;
+    const TOLERANCE_RANGE: (f64, f64) = (RTOL_MIN, RTOL_MAX);
+
+    fn instantiate() -> Self {
+        GearedRotorFmu {
+            values: values::start_values(),
+            input_der: [0.0; 2],
+            sim: None,
+            dirty: true,
+            outputs: None,
+        }
+    }
+
+    fn invalidate(&mut self) {
+        self.dirty = true;
+    }
+
+    fn exit_initialization(&mut self, exp: &Experiment, log: &Logger) -> Result<(), BindingError> {
+        values::on_violation(&self.values).map_err(|e| sim_err(SimError::Param(e)))?;
+        self.ensure_sim(exp)?;
+        self.log_exit_initialization(exp, log);
+        Ok(())
+    }
+
+    fn terminate(&self, log: &Logger) {
+        if let Some(sim) = &self.sim {
+            if log.enabled(Category::Solver) {
+                log.log(
+                    Fmi2Status::OK,
+                    Category::Solver,
+                    &format!(
+                        "RADAU5 totals at t = {}: {}",
+                        Short(sim.time()),
+                        sim.stats()
+                    ),
+                );
+            }
+        }
+    }
+
+    fn get(
+        &mut self,
+        var: &'static Variable,
+        phase: Phase,
+        exp: &Experiment,
+    ) -> Result<f64, BindingError> {
+        match var.causality {
+            Causality::Parameter | Causality::Input | Causality::Local | Causality::Independent => {
+                Ok(self.values[var.var as usize])
+            }
+            Causality::CalculatedParameter => {
+                if phase == Phase::InitializationMode {
+                    self.ensure_sim(exp)?;
+                }
+                let sim = self.sim.as_ref().ok_or_else(|| {
+                    BindingError::NotAvailable(format!(
+                        "{} is not available: the model was not initialised",
+                        var.name
+                    ))
+                })?;
+                values::calculated_value(sim.model().geometry(), var.var)
+                    .ok_or_else(|| BindingError::NotAvailable(format!("{} has no value", var.name)))
+            }
+            Causality::Output => {
+                let o = self.current_outputs(phase, exp)?;
+                values::output_value(o, var.var)
+                    .ok_or_else(|| BindingError::NotAvailable(format!("{} has no value", var.name)))
+            }
+        }
+    }
+
+    fn set(&mut self, var: &'static Variable, x: f64, stepping: bool) -> Result<(), BindingError> {
+        if let Some(sim) = self.sim.as_mut().filter(|_| stepping) {
+            match var.var {
+                Var::mu => sim.set_mu(x),
+                Var::d_phi => sim.set_d_phi(x),
+                v => match input_of(v) {
+                    Some(inp) => sim.set_input(inp, x),
+                    None => Ok(()),
+                },
+            }?;
+            self.outputs = None;
+        } else {
+            self.dirty = true;
+        }
+        self.values[var.var as usize] = x;
+        Ok(())
+    }
+
+    fn set_input_derivative(
+        &mut self,
+        var: &'static Variable,
+        der: f64,
+        stepping: bool,
+    ) -> Result<(), BindingError> {
+        let inp = input_of(var.var).ok_or_else(|| {
+            BindingError::NotAvailable(format!("{} has no input derivative", var.name))
+        })?;
+        let k = match inp {
+            Input::Omega1 => 0,
+            Input::TLoad => 1,
+        };
+        self.input_der[k] = der;
+        match self.sim.as_mut().filter(|_| stepping) {
+            Some(sim) => {
+                sim.set_input_derivative(inp, der)?;
+                self.outputs = None;
+            }
+            None => self.dirty = true,
+        }
+        Ok(())
+    }
+
+    fn output_derivatives(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), BindingError> {
+        let sim = self
+            .sim
+            .as_mut()
+            .ok_or_else(|| BindingError::NotAvailable("the model was not initialised".into()))?;
+        // Central difference on the dense output (order 1).
+        let (om, op, delta) = sim.outputs_for_derivative();
+        for (o, &vr) in out.iter_mut().zip(vrs) {
+            let var = variables::lookup(VarType::Real, vr)
+                .ok_or_else(|| BindingError::NotAvailable(format!("no Real output {vr}")))?;
+            let a = values::output_value(&om, var.var).unwrap_or(0.0);
+            let b = values::output_value(&op, var.var).unwrap_or(0.0);
+            *o = (b - a) / (2.0 * delta);
+        }
+        Ok(())
+    }
+
+    /// Returns fmi2Warning when an episode outside the model's validity started in the
+    /// step (lift-off, drive reversal; `on_lift_off = warn`), with a message.
+    fn do_step(&mut self, ccp: f64, h: f64, log: &Logger) -> Result<Fmi2Status, BindingError> {
+        let func = "fmi2DoStep";
+        let policy = values::on_violation(&self.values).unwrap_or_default();
+        let max_steps = self.v(Var::max_internal_steps) as u64;
+        let sim = self
+            .sim
+            .as_mut()
+            .ok_or_else(|| BindingError::NotAvailable("no simulation".into()))?;
+        let t0 = sim.time();
+        sim.set_on_violation(policy);
+        sim.set_max_internal_steps(max_steps);
+        let r = sim.do_step(ccp, h);
+        self.outputs = None;
+        let report = r?;
+        let mut status = Fmi2Status::OK;
+        for v in report.violations.iter().flatten() {
+            log.log(
+                Fmi2Status::Warning,
+                Category::Warning,
+                &format!("{func}: {v}"),
+            );
+            status = Fmi2Status::Warning;
+        }
+        if report.violations_dropped > 0 {
+            log.log(
+                Fmi2Status::Warning,
+                Category::Warning,
+                &format!(
+                    "{func}: {} further episodes outside the model's validity in [{t0}, {}] s",
+                    report.violations_dropped,
+                    ccp + h
+                ),
+            );
+        }
+        if report.contact_changes > 0 && log.enabled(Category::Events) {
+            let what = if report.contact_lost {
+                "lifted off (lambda < 0)"
+            } else {
+                "back in contact (lambda >= 0)"
+            };
+            log.log(
+                Fmi2Status::OK,
+                Category::Events,
+                &format!(
+                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {} s; at the end the teeth are {what}",
+                    report.contact_changes,
+                    Short(t0),
+                    Short(ccp + h),
+                    Short(report.first_change_time)
+                ),
+            );
+        }
+        if log.enabled(Category::Solver) {
+            log.log(
+                Fmi2Status::OK,
+                Category::Solver,
+                &format!(
+                    "doStep [{}, {}] s{}: {}",
+                    Short(t0),
+                    Short(ccp + h),
+                    if report.restarted { " (restart)" } else { "" },
+                    report.stats
+                ),
+            );
+        }
+        Ok(status)
+    }
+
+    fn step_tolerance(t: f64, h: f64) -> f64 {
+        sim::comm_tolerance(t, h)
+    }
+
+    fn time(&self) -> Option<f64> {
+        self.sim.as_ref().map(Simulation::time)
+    }
+
+    fn last_successful_time(&self) -> Option<f64> {
+        self.sim.as_ref().map(Simulation::last_successful_time)
+    }
+
+    fn snapshot(&self) -> BindingState {
+        BindingState {
+            values: self.values,
+            input_der: self.input_der,
+            sim: if self.dirty {
+                None
+            } else {
+                self.sim.as_ref().map(Simulation::state)
+            },
+        }
+    }
+
+    fn restore(&mut self, s: &BindingState) -> Result<(), BindingError> {
+        match (&s.sim, self.sim.as_mut()) {
+            (Some(ss), Some(sim)) => sim.restore(ss)?,
+            (Some(ss), None) => self.sim = Some(Simulation::from_state(ss)?),
+            (None, _) => self.sim = None,
+        }
+        self.dirty = self.sim.is_none();
+        self.values = s.values;
+        self.input_der = s.input_der;
+        self.outputs = None;
+        Ok(())
+    }
+
+    fn write_state(s: &BindingState, w: &mut crate::bytes::Writer) {
+        s.write(w);
+    }
+
+    fn read_state(r: &mut crate::bytes::Reader<'_>) -> Result<BindingState, BindingError> {
+        BindingState::read(r)
+    }
+
+    fn validate_state(s: &BindingState, phase: Phase, exp: &Experiment) -> Result<(), String> {
+        s.validate(phase, exp)
+    }
+}
