@@ -1,11 +1,11 @@
 //! Build script: checks `modelDescription/modelDescription.xml` and generates the variable
 //! table and the GUID-filled description into OUT_DIR. The rules live in
-//! `src/fmi2/model_description_check.rs` (unit-tested there); a bad description stops the
+//! `build/model_description_check.rs` (unit-tested there); a bad description stops the
 //! build with a message naming the variable and the rule.
 
 #[path = "src/hash.rs"]
 mod hash;
-#[path = "src/fmi2/model_description_check.rs"]
+#[path = "build/model_description_check.rs"]
 mod model_description_check;
 
 use model_description_check::{process, SOURCE};
@@ -14,7 +14,7 @@ use std::path::PathBuf;
 fn main() {
     println!("cargo:rerun-if-changed={SOURCE}");
     println!("cargo:rerun-if-changed=build.rs");
-    println!("cargo:rerun-if-changed=src/fmi2/model_description_check.rs");
+    println!("cargo:rerun-if-changed=build/model_description_check.rs");
     println!("cargo:rerun-if-changed=src/hash.rs");
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));

@@ -19,6 +19,11 @@ pub mod fmi2;
 pub mod fmt_num;
 pub mod gear;
 pub mod hash;
+/// The build-time checker of the model description (build.rs includes the same file);
+/// compiled here only for its unit tests, not into the FMU library.
+#[cfg(test)]
+#[path = "../build/model_description_check.rs"]
+mod model_description_check;
 pub mod periodic;
 pub mod radau5;
 pub mod rotor;

@@ -56,7 +56,7 @@ impl GearedRotorFmu {
         if self.sim.is_some() && !self.dirty {
             return Ok(());
         }
-        for name in bounds::CHECKED_AT_INIT {
+        for name in values::CHECKED_AT_INIT {
             if let Some(var) = variables::by_name(name) {
                 bounds::check(var, self.values[var.var as usize])
                     .map_err(BindingError::OutOfBounds)?;

@@ -78,7 +78,7 @@ impl BindingState {
         // a simulation exists; the other parameters are compared with the simulation's
         // below.
         for (var, &x) in variables::VARIABLES.iter().zip(self.values.iter()) {
-            let at_init = bounds::CHECKED_AT_INIT.contains(&var.name)
+            let at_init = values::CHECKED_AT_INIT.contains(&var.name)
                 || (var.var == Var::rtol && exp.tolerance.is_none());
             if bounds::checked_when_set(var) || (at_init && self.sim.is_some()) {
                 bounds::check(var, x).map_err(|e| format!("variable {e}"))?;

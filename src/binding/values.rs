@@ -12,6 +12,11 @@ use crate::sim::{Initialization, Input, OnViolation, SolverSettings};
 /// Enumeration values as f64).
 pub type Values = [f64; N_VARIABLES];
 
+/// Fixed parameters whose declared bounds fmi2ExitInitializationMode checks (rtol has a
+/// rule of its own, `SolverSettings::validate`, equal to its declared bounds; the other
+/// parameters are checked by the model's rules).
+pub const CHECKED_AT_INIT: &[&str] = &["omega1_filter_frequency", "h_max"];
+
 /// Every variable at its start value.
 pub fn start_values() -> Values {
     let mut v = [0.0; N_VARIABLES];

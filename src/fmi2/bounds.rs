@@ -1,16 +1,11 @@
 //! The declared bounds (min, max of the model description): those of the inputs and the
-//! tunable parameters are checked when a value is set, those of the solver parameters
-//! without a rule of their own in fmi2ExitInitializationMode, all of them when a stored
-//! state is read; a value outside them never reaches the model (docs/fmu.md
-//! "Robustness"). FMI 2.0 bounds are inclusive.
+//! tunable parameters are checked when a value is set (by the FMI layer); the model checks
+//! others where it needs them (the binding: parameters without a rule of their own in
+//! fmi2ExitInitializationMode, all of them when a stored state is read); a value outside
+//! them never reaches the model (docs/fmu.md "Robustness"). FMI 2.0 bounds are inclusive.
 
 use super::variables::{Causality, Variability, Variable};
 use crate::fmt_num::Short;
-
-/// Fixed parameters whose declared bounds fmi2ExitInitializationMode checks (rtol has a
-/// rule of its own, `SolverSettings::validate`, equal to its declared bounds; the other
-/// parameters are checked by the model's rules).
-pub const CHECKED_AT_INIT: &[&str] = &["omega1_filter_frequency", "h_max"];
 
 /// Whether `var`'s declared bounds are checked when it is set (inputs and tunables: a new
 /// value reaches the running model at once).

@@ -14,8 +14,6 @@ pub mod error;
 pub mod instance;
 pub mod logging;
 pub mod model;
-#[cfg(test)]
-mod model_description_check;
 pub mod state_machine;
 pub mod types;
 pub mod variables;

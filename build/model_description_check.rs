@@ -803,7 +803,7 @@ pub fn process(text: &str) -> Result<(String, String), String> {
 mod tests {
     use super::*;
 
-    const XML: &str = include_str!("../../modelDescription/modelDescription.xml");
+    const XML: &str = include_str!("../modelDescription/modelDescription.xml");
 
     fn rejects(mutated: &str, expect: &str) {
         assert_ne!(mutated, XML, "mutation did not apply");
