@@ -24,6 +24,7 @@ pub mod hash;
 #[cfg(test)]
 #[path = "../build/model_description_check.rs"]
 mod model_description_check;
+pub mod parameter;
 pub mod periodic;
 pub mod radau5;
 pub mod rotor;

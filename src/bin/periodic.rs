@@ -13,7 +13,7 @@
 use geared_rotor::periodic::harmonic::{harmonic_balance, HarmonicOptions, HarmonicSolution};
 use geared_rotor::periodic::shooting::{shoot, ShootingOptions};
 use geared_rotor::periodic::{max_rel_deviation, OrbitPoint, PeriodicSystem};
-use geared_rotor::rotor::Params;
+use geared_rotor::rotor::{param_table, Params};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -26,54 +26,13 @@ struct Args {
     json: bool,
 }
 
+/// Sets the parameter `name` (any of the FMU's model parameters, `rotor::param_table`).
 fn set_param(p: &mut Params, name: &str, v: f64) -> Result<(), String> {
-    let axis = |s: &str| match s {
-        "x" => Some(0),
-        "y" => Some(1),
-        "z" => Some(2),
-        _ => None,
-    };
-    let int = |v: f64| -> Result<i32, String> {
-        if v.fract() == 0.0 && v.abs() < 1e6 {
-            Ok(v as i32)
-        } else {
-            Err(format!("{name} must be an integer, got {v}"))
-        }
-    };
-    match name {
-        "z1" => p.gear.z1 = int(v)?,
-        "z2" => p.gear.z2 = int(v)?,
-        "m_n" => p.gear.m_n = v,
-        "alpha_n" => p.gear.alpha_n = v,
-        "beta" => p.gear.beta = v,
-        "b" => p.gear.b = v,
-        "x1" => p.gear.x1 = v,
-        "x2" => p.gear.x2 = v,
-        "h_aP" => p.gear.ha_coef = v,
-        "a_w_set" => p.gear.a_w = v,
-        "psi0" => p.psi0 = v,
-        "m1" => p.rotor1.m = v,
-        "J1" => p.rotor1.j = v,
-        "m2" => p.rotor2.m = v,
-        "J2" => p.rotor2.j = v,
-        "d_phi" => p.d_phi = v,
-        "mu" => p.mu = v,
-        "omega1_filter_frequency" => p.omega1_filter_hz = v,
-        _ => {
-            let (vec, ax) = name
-                .split_once('.')
-                .and_then(|(a, b)| axis(b).map(|i| (a, i)))
-                .ok_or_else(|| format!("unknown parameter '{name}'"))?;
-            match vec {
-                "k1" => p.rotor1.k[ax] = v,
-                "d1" => p.rotor1.d[ax] = v,
-                "k2" => p.rotor2.k[ax] = v,
-                "d2" => p.rotor2.d[ax] = v,
-                _ => return Err(format!("unknown parameter '{name}'")),
-            }
-        }
-    }
-    Ok(())
+    let q = param_table::by_name(name).ok_or_else(|| {
+        let names: Vec<&str> = param_table::all().map(|q| q.name()).collect();
+        format!("unknown parameter '{name}' (known: {})", names.join(", "))
+    })?;
+    q.set(p, v).map_err(|e| e.to_string())
 }
 
 fn parse_args() -> Result<Args, String> {

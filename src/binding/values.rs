@@ -4,8 +4,8 @@
 
 use crate::fmi2::model::Experiment;
 use crate::fmi2::variables::{self, Var, N_VARIABLES, VARIABLES};
-use crate::gear::{FrictionParams, GearData, PairGeometry, ParamError};
-use crate::rotor::{FrictionLaw, Outputs, Params, RotorData};
+use crate::gear::{PairGeometry, ParamError};
+use crate::rotor::{param_table, Outputs, Params};
 use crate::sim::{Initialization, Input, OnViolation, SolverSettings};
 
 /// The value store: one f64 per variable, in table order (Integer, Boolean and
@@ -26,65 +26,19 @@ pub fn start_values() -> Values {
     v
 }
 
-/// Parameters from the store; the friction-law code is checked here, the rest by
+/// Parameters from the store, through the parameter table (`rotor::param_table`): every
+/// parameter of [`Params`] is read from the variable of the same name; the integer and
+/// code parameters are checked here (e.g. the friction-law code), the rest by
 /// `Params::validate` (names the parameter and the bound).
 pub fn params(values: &Values) -> Result<Params, ParamError> {
-    let v = |var: Var| values[var as usize];
-    use Var::*;
-    let law = v(friction_law);
-    let Some(law_kind) = FrictionLaw::from_code(law as i32).filter(|_| law.fract() == 0.0) else {
-        return Err(ParamError {
-            name: "friction_law",
-            value: law,
-            requirement:
-                "friction_law in 1..=4 (1 Coulomb, 2 regularised, 3 ISO/TR 14179-2, 4 local EHL)"
-                    .into(),
-        });
-    };
-    let gear = GearData {
-        z1: v(z1) as i32,
-        z2: v(z2) as i32,
-        m_n: v(m_n),
-        alpha_n: v(alpha_n),
-        beta: v(beta),
-        b: v(b),
-        x1: v(x1),
-        x2: v(x2),
-        ha_coef: v(h_aP),
-        a_w: v(a_w_set),
-    };
-    let rotor1 = RotorData {
-        m: v(m1),
-        j: v(J1),
-        k: [v(k1_x), v(k1_y), v(k1_z)],
-        d: [v(d1_x), v(d1_y), v(d1_z)],
-    };
-    let rotor2 = RotorData {
-        m: v(m2),
-        j: v(J2),
-        k: [v(k2_x), v(k2_y), v(k2_z)],
-        d: [v(d2_x), v(d2_y), v(d2_z)],
-    };
-    Ok(Params {
-        gear,
-        rotor1,
-        rotor2,
-        d_phi: v(d_phi),
-        mu: v(mu),
-        psi0: v(psi0),
-        friction_law: law_kind,
-        omega1_filter_hz: v(omega1_filter_frequency),
-        friction: FrictionParams {
-            v_reg: v(v_reg),
-            eta_oil: v(eta_oil),
-            ra: v(Ra),
-            x_l: v(X_L),
-            e1: v(E1),
-            nu1: v(nu1),
-            e2: v(E2),
-            nu2: v(nu2),
-        },
-    })
+    let mut p = Params::default();
+    for q in param_table::all() {
+        // Every table name is a variable of the model description (tests/rotor_parameter_table.rs).
+        if let Some(var) = variables::by_name(q.name()) {
+            q.set(&mut p, values[var.var as usize])?;
+        }
+    }
+    Ok(p)
 }
 
 /// The Enumeration parameter `initialization` (values checked at the set as well).

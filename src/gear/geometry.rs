@@ -4,8 +4,8 @@
 use super::geometry_repair as repair;
 pub(crate) use super::geometry_repair::Rule;
 use crate::fmt_num::Short;
+use crate::parameter::{self, Kind, Parameter};
 use std::f64::consts::PI;
-use std::fmt;
 
 /// Engineering data of the gear pair (`model.md` §2, defaults §10).
 ///
@@ -35,52 +35,165 @@ pub struct GearData {
     pub a_w: f64,
 }
 
+/// 20 degrees in rad, as `20f64.to_radians()` computes it.
+const DEG20: f64 = 20.0 * (PI / 180.0);
+/// The declared bound of the angles: the double just below pi/4 (45 degrees excluded).
+const BELOW_45_DEG: f64 = 0.785_398_163_397_448_2;
+
+/// The gear parameters, each described once (FMI name, unit, default = the default
+/// automotive-size helical pair of `model.md` §10, declared bounds); their rules are
+/// those of [`PairGeometry::new`].
+pub static GEAR_PARAMETERS: [Parameter<GearData>; 10] = [
+    gear_param(
+        "z1",
+        "",
+        Kind::Integer,
+        27.0,
+        Some(5.0),
+        None,
+        |g| f64::from(g.z1),
+        |g, x| g.z1 = x as i32,
+    ),
+    gear_param(
+        "z2",
+        "",
+        Kind::Integer,
+        41.0,
+        Some(5.0),
+        None,
+        |g| f64::from(g.z2),
+        |g, x| g.z2 = x as i32,
+    ),
+    gear_param(
+        "m_n",
+        "m",
+        Kind::Real,
+        2.0e-3,
+        Some(1e-300),
+        None,
+        |g| g.m_n,
+        |g, x| g.m_n = x,
+    ),
+    gear_param(
+        "alpha_n",
+        "rad",
+        Kind::Real,
+        DEG20,
+        Some(1e-300),
+        Some(BELOW_45_DEG),
+        |g| g.alpha_n,
+        |g, x| g.alpha_n = x,
+    ),
+    gear_param(
+        "beta",
+        "rad",
+        Kind::Real,
+        DEG20,
+        Some(-BELOW_45_DEG),
+        Some(BELOW_45_DEG),
+        |g| g.beta,
+        |g, x| g.beta = x,
+    ),
+    gear_param(
+        "b",
+        "m",
+        Kind::Real,
+        18.0e-3,
+        Some(1e-300),
+        None,
+        |g| g.b,
+        |g, x| g.b = x,
+    ),
+    gear_param(
+        "x1",
+        "1",
+        Kind::Real,
+        0.0,
+        None,
+        None,
+        |g| g.x1,
+        |g, x| g.x1 = x,
+    ),
+    gear_param(
+        "x2",
+        "1",
+        Kind::Real,
+        0.0,
+        None,
+        None,
+        |g| g.x2,
+        |g, x| g.x2 = x,
+    ),
+    gear_param(
+        "h_aP",
+        "1",
+        Kind::Real,
+        1.0,
+        Some(1e-300),
+        None,
+        |g| g.ha_coef,
+        |g, x| g.ha_coef = x,
+    ),
+    gear_param(
+        "a_w_set",
+        "m",
+        Kind::Real,
+        0.0,
+        Some(0.0),
+        None,
+        |g| g.a_w,
+        |g, x| g.a_w = x,
+    ),
+];
+
+#[allow(clippy::too_many_arguments)]
+const fn gear_param(
+    name: &'static str,
+    unit: &'static str,
+    kind: Kind,
+    default: f64,
+    min: Option<f64>,
+    max: Option<f64>,
+    get: fn(&GearData) -> f64,
+    put: fn(&mut GearData, f64),
+) -> Parameter<GearData> {
+    Parameter {
+        name,
+        unit,
+        kind,
+        default,
+        min,
+        max,
+        rule: parameter::Rule::Elsewhere,
+        get,
+        put,
+    }
+}
+
 impl Default for GearData {
-    /// The default automotive-size helical pair of `model.md` §10.
+    /// The defaults of [`GEAR_PARAMETERS`].
     fn default() -> Self {
-        Self {
-            z1: 27,
-            z2: 41,
-            m_n: 2.0e-3,
-            alpha_n: 20f64.to_radians(),
-            beta: 20f64.to_radians(),
-            b: 18.0e-3,
+        let mut g = GearData {
+            z1: 0,
+            z2: 0,
+            m_n: 0.0,
+            alpha_n: 0.0,
+            beta: 0.0,
+            b: 0.0,
             x1: 0.0,
             x2: 0.0,
-            ha_coef: 1.0,
+            ha_coef: 0.0,
             a_w: 0.0,
+        };
+        for p in &GEAR_PARAMETERS {
+            (p.put)(&mut g, p.default);
         }
+        g
     }
 }
 
-/// A parameter (or a parameter combination) that violates a bound of `model.md` §2.
-///
-/// `name` is the parameter held responsible (for derived conditions the one whose
-/// change most directly repairs the set), `requirement` states the bound and, for
-/// derived conditions, the derived quantity that violates it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParamError {
-    /// Parameter name as in the FMI model description (`z1`, `m_n`, `b`, ...).
-    pub name: &'static str,
-    /// The offending value of that parameter.
-    pub value: f64,
-    /// The violated bound, human readable.
-    pub requirement: String,
-}
-
-impl fmt::Display for ParamError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "parameter {} = {} violates {}",
-            self.name,
-            Short(self.value),
-            self.requirement
-        )
-    }
-}
-
-impl std::error::Error for ParamError {}
+/// The error of a violated parameter rule (also for the pair's rules of `model.md` §2).
+pub use crate::parameter::ParamError;
 
 /// Involute function inv x = tan x - x.
 #[inline]

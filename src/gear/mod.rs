@@ -11,9 +11,10 @@ mod geometry_repair;
 pub mod mesh;
 
 pub use contact_lines::{ContactSummary, Segment};
+pub use friction::law_params::FRICTION_PARAMETERS;
 pub use friction::{
     line_integrals, EhlLine, Friction, FrictionLaw, FrictionParams, FrictionSums, IsoMean,
     LineIntegrals, LineLaw, Lubricant,
 };
-pub use geometry::{inv, inv_inverse, GearData, PairGeometry, ParamError};
+pub use geometry::{inv, inv_inverse, GearData, PairGeometry, ParamError, GEAR_PARAMETERS};
 pub use mesh::{Kinematics, Mesh, MeshError};

@@ -6,6 +6,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod dae;
+pub mod param_table;
 pub(crate) mod params;
 mod problem;
 

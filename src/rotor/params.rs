@@ -1,5 +1,6 @@
 //! Parameters and held inputs of the geared rotor (`model.md` §5, §10).
 
+use super::param_table::{self, ROTOR_PARAMETERS};
 use crate::gear::{FrictionLaw, FrictionParams, GearData, PairGeometry, ParamError};
 
 /// Mass data of one rotor (`model.md` §5).
@@ -39,99 +40,69 @@ pub struct Params {
 }
 
 impl Default for Params {
-    /// `model.md` §10; omega1_filter_hz = 1000 Hz (`model.md` §8).
+    /// The defaults of the parameter table (`param_table`; `model.md` §10,
+    /// omega1_filter_hz = 1000 Hz, `model.md` §8).
     fn default() -> Self {
-        Self {
+        let mut p = Params {
             gear: GearData::default(),
             rotor1: RotorData {
-                m: 2.0,
-                j: 1.0e-3,
-                k: [2e8, 2e8, 1e8],
-                d: [1200.0, 1200.0, 850.0],
+                m: 0.0,
+                j: 0.0,
+                k: [0.0; 3],
+                d: [0.0; 3],
             },
             rotor2: RotorData {
-                m: 4.0,
-                j: 5.0e-3,
-                k: [2e8, 2e8, 1e8],
-                d: [1700.0, 1700.0, 1200.0],
+                m: 0.0,
+                j: 0.0,
+                k: [0.0; 3],
+                d: [0.0; 3],
             },
-            d_phi: 0.5,
-            mu: 0.05,
+            d_phi: 0.0,
+            mu: 0.0,
             psi0: 0.0,
             friction_law: FrictionLaw::Coulomb,
-            omega1_filter_hz: 1000.0,
+            omega1_filter_hz: 0.0,
             friction: FrictionParams::default(),
+        };
+        for q in &ROTOR_PARAMETERS {
+            (q.put)(&mut p, q.default);
         }
+        p
     }
-}
-
-fn check(ok: bool, name: &'static str, value: f64, req: &str) -> Result<(), ParamError> {
-    if ok {
-        Ok(())
-    } else {
-        Err(ParamError {
-            name,
-            value,
-            requirement: req.to_string(),
-        })
-    }
-}
-
-fn check_rotor(r: &RotorData, names: [&'static str; 8]) -> Result<(), ParamError> {
-    check(r.m > 0.0 && r.m.is_finite(), names[0], r.m, "0 < m < inf")?;
-    check(r.j > 0.0 && r.j.is_finite(), names[1], r.j, "0 < J < inf")?;
-    for i in 0..3 {
-        check(
-            r.k[i] >= 0.0 && r.k[i].is_finite(),
-            names[2 + i],
-            r.k[i],
-            "0 <= k < inf",
-        )?;
-        check(
-            r.d[i] >= 0.0 && r.d[i].is_finite(),
-            names[5 + i],
-            r.d[i],
-            "0 <= d < inf",
-        )?;
-    }
-    Ok(())
 }
 
 impl Params {
-    /// Checks every bound and derives the pair geometry.
+    /// Checks every parameter's rule (`param_table`) and the pair's rules, and derives the
+    /// pair geometry.
     ///
     /// # Errors
-    /// The first violated bound, named as in the FMI model description.
+    /// The first violated rule, named as in the FMI model description.
     pub fn validate(&self) -> Result<PairGeometry, ParamError> {
         let g = PairGeometry::new(&self.gear)?;
-        check_rotor(
-            &self.rotor1,
-            ["m1", "J1", "k1.x", "k1.y", "k1.z", "d1.x", "d1.y", "d1.z"],
-        )?;
-        check_rotor(
-            &self.rotor2,
-            ["m2", "J2", "k2.x", "k2.y", "k2.z", "d2.x", "d2.y", "d2.z"],
-        )?;
-        check_d_phi(self.d_phi)?;
-        check_mu(self.mu)?;
-        check(self.psi0.is_finite(), "psi0", self.psi0, "psi0 finite")?;
-        check(
-            self.omega1_filter_hz > 0.0 && self.omega1_filter_hz.is_finite(),
-            "omega1_filter_frequency",
-            self.omega1_filter_hz,
-            "0 < omega1_filter_frequency < inf",
-        )?;
+        for p in &ROTOR_PARAMETERS {
+            p.check(self)?;
+        }
         self.friction.validate()?;
         Ok(g)
     }
 }
 
+/// The rule of the tunable mu (`param_table`), for a new value.
 pub(crate) fn check_mu(mu: f64) -> Result<(), ParamError> {
-    check(mu >= 0.0 && mu.is_finite(), "mu", mu, "0 <= mu < inf")
+    let p = Params {
+        mu,
+        ..Params::default()
+    };
+    ROTOR_PARAMETERS[param_table::MU].check(&p)
 }
 
+/// The rule of the tunable d_phi (`param_table`), for a new value.
 pub(crate) fn check_d_phi(d: f64) -> Result<(), ParamError> {
-    check(d >= 0.0 && d.is_finite(), "d_phi", d, "0 <= d_phi < inf")
+    let p = Params {
+        d_phi: d,
+        ..Params::default()
+    };
+    ROTOR_PARAMETERS[param_table::D_PHI].check(&p)
 }
 
 /// Held inputs: `value(t) = value + der (t - t_ref)` (der from

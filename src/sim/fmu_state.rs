@@ -10,9 +10,9 @@ use super::validity::Monitor;
 use super::{realtime, Simulation};
 use crate::bytes::{DecodeError, Reader, Writer};
 use crate::fmt_num::Short;
-use crate::gear::{FrictionParams, GearData};
+use crate::parameter::Kind;
 use crate::radau5::{Radau5, Snapshot};
-use crate::rotor::{FrictionLaw, GearedRotor, Inputs, Params, RotorData, RotorProblem, NY};
+use crate::rotor::{param_table, GearedRotor, Inputs, Params, RotorProblem, NY};
 use nalgebra::SVector;
 
 /// The model state at initialisation; replayed when a serialized state is loaded, so that
@@ -131,103 +131,30 @@ impl Simulation {
     }
 }
 
+/// The parameters in the order of `rotor::param_table::all`: integers as i32, reals as
+/// f64.
 pub(super) fn write_params(w: &mut Writer, p: &Params) {
-    let g = &p.gear;
-    w.i32(g.z1);
-    w.i32(g.z2);
-    for x in [g.m_n, g.alpha_n, g.beta, g.b, g.x1, g.x2, g.ha_coef, g.a_w] {
-        w.f64(x);
-    }
-    for r in [&p.rotor1, &p.rotor2] {
-        w.f64(r.m);
-        w.f64(r.j);
-        for x in r.k.iter().chain(r.d.iter()) {
-            w.f64(*x);
+    for q in param_table::all() {
+        match q.kind() {
+            Kind::Integer => w.i32(q.get(p) as i32),
+            Kind::Real => w.f64(q.get(p)),
         }
-    }
-    w.f64(p.d_phi);
-    w.f64(p.mu);
-    w.f64(p.psi0);
-    w.i32(p.friction_law.code());
-    w.f64(p.omega1_filter_hz);
-    let fp = &p.friction;
-    for x in [
-        fp.v_reg, fp.eta_oil, fp.ra, fp.x_l, fp.e1, fp.nu1, fp.e2, fp.nu2,
-    ] {
-        w.f64(x);
     }
 }
 
+/// Reads what [`write_params`] wrote (reals must be finite, codes known).
 pub(super) fn read_params(r: &mut Reader) -> Result<Params, DecodeError> {
-    let z1 = r.i32("z1")?;
-    let z2 = r.i32("z2")?;
-    let mut g = [0.0; 8];
-    for x in g.iter_mut() {
-        *x = r.finite("gear data")?;
+    let mut p = Params::default();
+    for q in param_table::all() {
+        let x = match q.kind() {
+            Kind::Integer => f64::from(r.i32(q.name())?),
+            Kind::Real => r.finite(q.name())?,
+        };
+        q.set(&mut p, x).map_err(|e| DecodeError {
+            message: e.to_string(),
+        })?;
     }
-    let gear = GearData {
-        z1,
-        z2,
-        m_n: g[0],
-        alpha_n: g[1],
-        beta: g[2],
-        b: g[3],
-        x1: g[4],
-        x2: g[5],
-        ha_coef: g[6],
-        a_w: g[7],
-    };
-    let mut rot = [RotorData {
-        m: 0.0,
-        j: 0.0,
-        k: [0.0; 3],
-        d: [0.0; 3],
-    }; 2];
-    for rd in rot.iter_mut() {
-        rd.m = r.finite("rotor mass")?;
-        rd.j = r.finite("rotor inertia")?;
-        for k in rd.k.iter_mut() {
-            *k = r.finite("bearing stiffness")?;
-        }
-        for d in rd.d.iter_mut() {
-            *d = r.finite("bearing damping")?;
-        }
-    }
-    let d_phi = r.finite("d_phi")?;
-    let mu = r.finite("mu")?;
-    let psi0 = r.finite("psi0")?;
-    let code = r.i32("friction_law")?;
-    let Some(friction_law) = FrictionLaw::from_code(code) else {
-        return Err(DecodeError {
-            message: format!("unknown friction law {code}"),
-        });
-    };
-    let omega1_filter_hz = r.finite("omega1_filter_frequency")?;
-    let mut fp = [0.0; 8];
-    for x in fp.iter_mut() {
-        *x = r.finite("friction law parameters")?;
-    }
-    let friction = FrictionParams {
-        v_reg: fp[0],
-        eta_oil: fp[1],
-        ra: fp[2],
-        x_l: fp[3],
-        e1: fp[4],
-        nu1: fp[5],
-        e2: fp[6],
-        nu2: fp[7],
-    };
-    Ok(Params {
-        gear,
-        rotor1: rot[0],
-        rotor2: rot[1],
-        d_phi,
-        mu,
-        psi0,
-        friction_law,
-        omega1_filter_hz,
-        friction,
-    })
+    Ok(p)
 }
 
 pub(super) fn write_inputs(w: &mut Writer, i: &Inputs) {

@@ -1,7 +1,8 @@
-//! Parameters of friction laws 2-4 and their validation (`docs/friction.md`).
+//! Parameters of friction laws 2-4, described once, and their validation
+//! (`docs/friction.md`).
 
 use super::ehl::Lubricant;
-use crate::gear::ParamError;
+use crate::parameter::{Kind, ParamError, Parameter, Rule};
 
 /// Parameters of the friction laws beyond Coulomb's mu (SI units; FMI names in brackets).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,77 +26,89 @@ pub struct FrictionParams {
     pub nu2: f64,
 }
 
-impl Default for FrictionParams {
-    /// v_reg = 0.01 m/s, an ISO VG 100 mineral oil near 70 °C (eta = 0.03 Pa s, X_L = 1),
-    /// ground flanks (Ra = 0.5 um), steel (E = 206 GPa, nu = 0.3).
-    fn default() -> Self {
-        FrictionParams {
-            v_reg: 0.01,
-            eta_oil: 0.03,
-            ra: 0.5e-6,
-            x_l: 1.0,
-            e1: 206e9,
-            nu1: 0.3,
-            e2: 206e9,
-            nu2: 0.3,
-        }
+/// The friction-law parameters, each described once (FMI name, unit, default, declared
+/// bounds, rule). Defaults: v_reg = 0.01 m/s, an ISO VG 100 mineral oil near 70 °C
+/// (eta = 0.03 Pa s, X_L = 1), ground flanks (Ra = 0.5 um), steel (E = 206 GPa,
+/// nu = 0.3). Every law's parameters are checked whichever law is selected, so that a
+/// later switch of the law cannot meet an unchecked value.
+pub static FRICTION_PARAMETERS: [Parameter<FrictionParams>; 8] = [
+    positive("v_reg", "m/s", 0.01, |f| f.v_reg, |f, x| f.v_reg = x),
+    positive("eta_oil", "Pa.s", 0.03, |f| f.eta_oil, |f, x| f.eta_oil = x),
+    positive("Ra", "m", 0.5e-6, |f| f.ra, |f, x| f.ra = x),
+    positive("X_L", "1", 1.0, |f| f.x_l, |f, x| f.x_l = x),
+    positive("E1", "Pa", 206e9, |f| f.e1, |f, x| f.e1 = x),
+    poisson("nu1", |f| f.nu1, |f, x| f.nu1 = x),
+    positive("E2", "Pa", 206e9, |f| f.e2, |f, x| f.e2 = x),
+    poisson("nu2", |f| f.nu2, |f, x| f.nu2 = x),
+];
+
+/// A parameter that must be > 0 (declared min 1e-300: FMI bounds are inclusive).
+const fn positive(
+    name: &'static str,
+    unit: &'static str,
+    default: f64,
+    get: fn(&FrictionParams) -> f64,
+    put: fn(&mut FrictionParams, f64),
+) -> Parameter<FrictionParams> {
+    Parameter {
+        name,
+        unit,
+        kind: Kind::Real,
+        default,
+        min: Some(1e-300),
+        max: None,
+        rule: Rule::Positive,
+        get,
+        put,
     }
 }
 
-fn check(ok: bool, name: &'static str, value: f64, req: &str) -> Result<(), ParamError> {
-    if ok {
-        Ok(())
-    } else {
-        Err(ParamError {
-            name,
-            value,
-            requirement: req.to_string(),
-        })
+/// A Poisson's ratio: -1 < nu < 0.5 (declared -0.999999 ..= 0.499999), default 0.3.
+const fn poisson(
+    name: &'static str,
+    get: fn(&FrictionParams) -> f64,
+    put: fn(&mut FrictionParams, f64),
+) -> Parameter<FrictionParams> {
+    Parameter {
+        name,
+        unit: "1",
+        kind: Kind::Real,
+        default: 0.3,
+        min: Some(-0.999999),
+        max: Some(0.499999),
+        rule: Rule::Open(-1.0, 0.5),
+        get,
+        put,
+    }
+}
+
+impl Default for FrictionParams {
+    /// The defaults of [`FRICTION_PARAMETERS`].
+    fn default() -> Self {
+        let mut f = FrictionParams {
+            v_reg: 0.0,
+            eta_oil: 0.0,
+            ra: 0.0,
+            x_l: 0.0,
+            e1: 0.0,
+            nu1: 0.0,
+            e2: 0.0,
+            nu2: 0.0,
+        };
+        for p in &FRICTION_PARAMETERS {
+            (p.put)(&mut f, p.default);
+        }
+        f
     }
 }
 
 impl FrictionParams {
-    /// Checks every bound (all laws' parameters, whichever law is selected, so that a
-    /// later switch of the law cannot meet an unchecked value).
+    /// Checks the rule of every parameter of [`FRICTION_PARAMETERS`].
     ///
     /// # Errors
-    /// The first violated bound, named as in the FMI model description.
+    /// The first violated rule, named as in the FMI model description.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let pos = |x: f64| x > 0.0 && x.is_finite();
-        check(
-            pos(self.v_reg),
-            "v_reg",
-            self.v_reg,
-            "0 < v_reg < inf (m/s)",
-        )?;
-        check(
-            pos(self.eta_oil),
-            "eta_oil",
-            self.eta_oil,
-            "0 < eta_oil < inf (Pa s, e.g. 0.03)",
-        )?;
-        check(pos(self.ra), "Ra", self.ra, "0 < Ra < inf (m, e.g. 0.5e-6)")?;
-        check(
-            pos(self.x_l),
-            "X_L",
-            self.x_l,
-            "0 < X_L < inf (1.0 for mineral oil)",
-        )?;
-        check(pos(self.e1), "E1", self.e1, "0 < E1 < inf (Pa)")?;
-        check(
-            self.nu1 > -1.0 && self.nu1 < 0.5,
-            "nu1",
-            self.nu1,
-            "-1 < nu1 < 0.5",
-        )?;
-        check(pos(self.e2), "E2", self.e2, "0 < E2 < inf (Pa)")?;
-        check(
-            self.nu2 > -1.0 && self.nu2 < 0.5,
-            "nu2",
-            self.nu2,
-            "-1 < nu2 < 0.5",
-        )?;
-        Ok(())
+        FRICTION_PARAMETERS.iter().try_for_each(|p| p.check(self))
     }
 
     /// The lubricant/material data of law 4.
