@@ -9,7 +9,14 @@
 //! - [`sim`]: the rotor DAE driven by RADAU5 across communication points (safe Rust API).
 //! - [`periodic`]: the periodic steady state by shooting (Floquet multipliers) and by the
 //!   n-th order harmonic approach (`model.md` §11, the paper's Fig. 3).
-//! - [`fmi2`]: the FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe instance.
+//! - [`binding`]: the geared rotor as an FMI model (the only code that maps the FMU's
+//!   variables to physics), behind the contract `fmi2::model::Model`.
+//! - [`fmi2`]: the model-agnostic FMI 2.0 Co-Simulation layer: a thin unsafe C shell over a
+//!   safe, generic instance (state machine, argument checks, logging, FMU-state envelope).
+//!   It names no model: [`FmuModel`] below wires the binding into it.
+//! - [`parameter`]: how a parameter is described (name, unit, default, bounds, rule) and
+//!   [`parameter::ParamError`]; the tables are with the layers (`rotor::param_table`).
+//! - [`bytes`]: the one byte reader/writer (FMU state, RADAU5 snapshot).
 //! - [`fmt_num`]: short numbers for messages (used by every layer).
 //! - [`hash`]: 64-bit FNV-1a: the checksums of saved states and the GUID (also in `build.rs`).
 
@@ -29,3 +36,6 @@ pub mod periodic;
 pub mod radau5;
 pub mod rotor;
 pub mod sim;
+
+/// The model this library exports through the FMI functions of [`fmi2`].
+pub type FmuModel = binding::GearedRotorFmu;

@@ -1,6 +1,6 @@
 //! The FMI 2.0 Co-Simulation C ABI: a thin unsafe shell over a safe, model-agnostic
-//! [`instance::Instance`] of the one model this library is built for ([`FmuModel`], the
-//! binding in `crate::binding`; the contract is [`model::Model`]).
+//! [`instance::Instance`] of the one model this library is built for ([`FmuModel`],
+//! chosen at the crate root; the contract is [`model::Model`]).
 //!
 //! Every exported function (standard names, no prefix; all common, all co-simulation and,
 //! as error stubs, all model-exchange functions, because masters refuse libraries that
@@ -22,8 +22,9 @@ use instance::INSTANCE_MAGIC;
 use logging::Category;
 use state_machine::allowed;
 
-/// The model behind this library's FMI functions.
-pub type FmuModel = crate::binding::GearedRotorFmu;
+/// The model behind this library's FMI functions: chosen at the crate root, so that this
+/// layer names no model.
+pub use crate::FmuModel;
 /// An instance of [`FmuModel`].
 pub type Instance = instance::Instance<FmuModel>;
 /// An FMU state of [`FmuModel`].
