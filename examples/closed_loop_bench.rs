@@ -25,7 +25,8 @@
 //!
 //! Run: `cargo run --release --example closed_loop_bench [repeats] [case-filter] [cpu]`
 //! (filter: a substring of the case names, or `=name,name` for exactly those cases;
-//! `BENCH_H=1e-4` or `1e-5` runs one communication step size only; `BENCH_JITTER=1` adds
+//! `BENCH_H=1e-4` or `1e-5` runs one communication step size only; `BENCH_OUTPUTS=T1`
+//! reads only that output (the others' cost by difference); `BENCH_JITTER=1` adds
 //! the machine's jitter floor next to `rt 2.5e-5 omega1`, see [`jitter_floor`]).
 
 use geared_rotor::fmi2::instance::Instance;
@@ -93,9 +94,12 @@ struct Fmu {
 
 impl Fmu {
     fn new(h_fixed: f64) -> Fmu {
+        // BENCH_OUTPUTS=T1: read only T1 (the cost of the other outputs by difference).
+        let only = std::env::var("BENCH_OUTPUTS").ok();
         let outs: Vec<u32> = VARIABLES
             .iter()
             .filter(|v| v.causality == Causality::Output && v.ty == VarType::Real)
+            .filter(|v| only.as_deref().is_none_or(|o| o == v.name))
             .map(|v| v.vr)
             .collect();
         let vals = vec![0.0; outs.len()];
