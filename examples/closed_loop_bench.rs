@@ -153,6 +153,8 @@ struct RunResult {
     max: Statistics,
     min_nfcn: u64,
     n: usize,
+    /// Whether each call renewed the Jacobian (for the real-time schedule).
+    with_jac: Vec<bool>,
 }
 
 fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
@@ -180,6 +182,7 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
     let mut sum = Statistics::default();
     let mut max = Statistics::default();
     let mut min_nfcn = u64::MAX;
+    let mut with_jac = Vec::with_capacity(n);
     let mut cpu = 0.0;
     let mut cpu_max = 0.0f64;
     let one = 1i32;
@@ -229,6 +232,7 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
         let d = f.stats().since(&s0);
         acc(&mut sum, &mut max, &d);
         min_nfcn = min_nfcn.min(d.nfcn);
+        with_jac.push(d.njac > 0);
     }
     // The whole loop (incl. reading the counters, ~1 ns per call): the process CPU clock
     // is a system call (~1 us), too slow to read around every call.
@@ -241,6 +245,7 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
         max,
         min_nfcn,
         n,
+        with_jac,
     }
 }
 
@@ -410,6 +415,32 @@ fn main() {
                     "{:<22} per doStep: nfcn {}..{}, LU pairs max {}, Jacobians max {}, rejections max {}",
                     "", r.min_nfcn, r.max.nfcn, r.max.ndec, r.max.njac, r.max.nrejct
                 );
+                // Median call with and without a Jacobian + LU renewal (the schedule's
+                // slowest and typical doStep), medians over the runs.
+                let part = |j: bool| {
+                    median(
+                        runs.iter()
+                            .map(|r| {
+                                median(
+                                    r.wall
+                                        .iter()
+                                        .zip(&r.with_jac)
+                                        .filter(|(_, &w)| w == j)
+                                        .map(|(x, _)| *x * 1e6)
+                                        .collect(),
+                                )
+                            })
+                            .collect(),
+                    )
+                };
+                if r.with_jac.iter().any(|&w| !w) {
+                    println!(
+                        "{:<22} median call with J + LU {:.1} us, without {:.1} us",
+                        "",
+                        part(true),
+                        part(false)
+                    );
+                }
             }
             let splits: Vec<(f64, f64)> = runs.iter().map(|r| max_split(&r.wall, h)).collect();
             println!(
