@@ -100,6 +100,32 @@ fn shorter_do_steps_renew_the_jacobian_on_a_fixed_schedule() {
             "doStep {k}: {w}"
         );
     }
+    // From t = 100 s (the master's t + H differs from H by ulps of t, 1.4e-9 of H): the
+    // same schedule, the LU pair kept across the round-off.
+    let t0 = 100.0;
+    let mut s = Simulation::new(
+        Params::default(),
+        SolverSettings {
+            rtol: 1e-6,
+            h_max: 1e-4,
+        },
+        t0,
+        W0,
+        0.0,
+    )
+    .unwrap();
+    s.set_h_fixed(1e-5).unwrap();
+    for k in 0..200u64 {
+        let t = t0 + k as f64 * h;
+        s.set_input(Input::Omega1, omega1(t)).unwrap();
+        let w = s.do_step(t, h).unwrap().stats;
+        let renew = u64::from(((t / h).round() as u64).is_multiple_of(10));
+        assert_eq!(
+            (w.nfcn, w.njac, w.ndec),
+            (3 * nit, renew, renew),
+            "t = {t}: {w}"
+        );
+    }
 }
 
 /// H = 1e-4 s, h_fixed = 2.5e-5 s, omega1 changing at every point: T1 within 1e-3 of the

@@ -10,7 +10,8 @@
 //! doStep of H = 1e-4 s). So the work of every doStep is `3 n NEWTON_ITERATIONS` f
 //! evaluations and `n NEWTON_ITERATIONS` linear solves, plus 1 Jacobian and 1 LU pair on
 //! the scheduled doSteps (all of them for H >= 1e-4 s), whatever the inputs do; off the
-//! schedule also after a new tunable, a failed doStep or a new internal step size. A new input function
+//! schedule also after a new tunable, a failed doStep or a new internal step size (more
+//! than round-off of t away from the LU pair's). A new input function
 //! (or tunable) at the communication point re-projects lambda onto the hidden constraint
 //! as in the adaptive mode, without an f evaluation (the fixed step needs none at its
 //! start). A Newton iteration that has not converged within its fixed count ends the
@@ -55,10 +56,14 @@ pub fn jacobian_due(t: f64, span: f64) -> bool {
     m == 1 || ((t / span).round() as i64).rem_euclid(m as i64) == 0
 }
 
-/// Relative difference of the internal step size from the LU pair's below which the LU
-/// pair is kept and the step taken with its h: `t_end - t` of a master's grid differs from
-/// H by ulps of t, and so does `H / n` from one doStep to the next.
-const LU_STEP_SLACK: f64 = 1e-9;
+/// Whether an LU pair for the internal step `h_lu` serves a doStep ending at `t_end` with
+/// n internal steps of h: the spans `t_end - t` of a master's grid differ from H and from
+/// each other by round-off of t only (a few ulps of t: 1.4e-9 of H = 1e-5 s at t = 100 s),
+/// so h and h_lu may differ by that over n and no more (the step is then taken with
+/// `h_lu`, landing on `t_end` exactly all the same).
+fn lu_serves(h_lu: f64, h: f64, n: u64, t_end: f64) -> bool {
+    (h_lu - h).abs() <= 8.0 * f64::EPSILON * (t_end.abs() / n as f64 + h)
+}
 
 /// Number of internal steps of a doStep of length `span`: the smallest n with
 /// `span - slack <= n h_fixed`. `slack` absorbs the master's rounding of the
@@ -135,7 +140,7 @@ impl Simulation {
         let kept = self
             .solver
             .fixed_lu_step()
-            .filter(|&h_lu| (h_lu - h).abs() <= LU_STEP_SLACK * h);
+            .filter(|&h_lu| lu_serves(h_lu, h, n, t_end));
         match kept {
             Some(h_lu) if !renew_now && !jacobian_due(t, t_end - t) => h = h_lu,
             _ => {
