@@ -32,7 +32,7 @@ use nalgebra::SVector;
 /// less than 1e-9 relative against 2 where both pass.
 pub const NEWTON_ITERATIONS: u32 = 3;
 
-/// Longest time [s] one Jacobian and LU pair serve in the real-time mode: with one J
+/// Longest time (s) one Jacobian and LU pair serve in the real-time mode: with one J
 /// per doStep of H = 1e-4 s (4 steps of h_fixed = 2.5e-5 s) the 3 Newton iterations
 /// converge (docs/fmu.md "Real-time mode"); shorter doSteps renew J at the same age, not
 /// at every doStep. Measured at H = 1e-5 s, h_fixed = 1e-5 s (`closed_loop_bench`, counted
