@@ -50,7 +50,10 @@ pub fn jacobian_period(span: f64) -> u64 {
     ((JACOBIAN_INTERVAL / span) * (1.0 + 1e-6)).floor().max(1.0) as u64
 }
 
-/// Whether the doStep `[t, t + span]` is on the schedule of [`jacobian_period`].
+/// Whether the doStep `[t, t + span]` is on the schedule of [`jacobian_period`]. The grid
+/// index `round(t / span)` carries the round-off of the span (ulps of t over H): exact to
+/// well below 1/2 up to t / H ~ 1e7 (100 s at H = 1e-5 s); beyond, a renewal may come one
+/// doStep early or late (J then at most (m + 1) H old).
 pub fn jacobian_due(t: f64, span: f64) -> bool {
     let m = jacobian_period(span);
     m == 1 || ((t / span).round() as i64).rem_euclid(m as i64) == 0
