@@ -39,6 +39,10 @@ pub const NEWTON_ITERATIONS: u32 = 3;
 /// omega1 new at every point): J + LU are ~7 us of a ~15 us doStep; with them on every
 /// 10th doStep the median call is 7.9-8.0 us (was 15.0-15.1), CPU per 10 ms 9.1-9.3 ms
 /// (was 15.2-15.4; 0.65x -> 1.1x real time); the doSteps that renew them stay at ~15 us.
+/// Measured and not kept: 4e-4 s, which would renew J on every 4th doStep of H = 1e-4 s
+/// too (h_fixed = 2.5e-5 s: median call 32.5 -> 26.4 us, CPU per 10 ms 3.29 -> 2.76 ms;
+/// h_fixed = 1e-4 s: 15.0 -> 8.2 us; the accuracy figures of `realtime_accuracy` equal to
+/// 3 digits), but gives up equal work per doStep at the H = 1e-4 s.
 pub const JACOBIAN_INTERVAL: f64 = 1e-4;
 
 /// Every how many doSteps of length `span` the Jacobian and the LU pair are renewed: the
