@@ -23,7 +23,11 @@
 //! The counters are deterministic: use them to judge a
 //! change when the machine is loaded.
 //!
-//! Run: `cargo run --release --example closed_loop_bench [repeats] [case-filter] [cpu]`.
+//! Run: `cargo run --release --example closed_loop_bench [repeats] [case-filter] [cpu]`
+//! (filter: a substring of the case names, or `=name,name` for exactly those cases;
+//! `BENCH_H=1e-4` or `1e-5` runs one communication step size only; `BENCH_OUTPUTS=T1`
+//! reads only that output (the others' cost by difference); `BENCH_JITTER=1` adds
+//! the machine's jitter floor next to `rt 2.5e-5 omega1`, see [`jitter_floor`]).
 
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{Causality, VarType, GUID, VARIABLES};
@@ -90,9 +94,12 @@ struct Fmu {
 
 impl Fmu {
     fn new(h_fixed: f64) -> Fmu {
+        // BENCH_OUTPUTS=T1: read only T1 (the cost of the other outputs by difference).
+        let only = std::env::var("BENCH_OUTPUTS").ok();
         let outs: Vec<u32> = VARIABLES
             .iter()
             .filter(|v| v.causality == Causality::Output && v.ty == VarType::Real)
+            .filter(|v| only.as_deref().is_none_or(|o| o == v.name))
             .map(|v| v.vr)
             .collect();
         let vals = vec![0.0; outs.len()];
@@ -146,6 +153,8 @@ struct RunResult {
     max: Statistics,
     min_nfcn: u64,
     n: usize,
+    /// Whether each call renewed the Jacobian (for the real-time schedule).
+    with_jac: Vec<bool>,
 }
 
 fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
@@ -173,6 +182,7 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
     let mut sum = Statistics::default();
     let mut max = Statistics::default();
     let mut min_nfcn = u64::MAX;
+    let mut with_jac = Vec::with_capacity(n);
     let mut cpu = 0.0;
     let mut cpu_max = 0.0f64;
     let one = 1i32;
@@ -222,6 +232,7 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
         let d = f.stats().since(&s0);
         acc(&mut sum, &mut max, &d);
         min_nfcn = min_nfcn.min(d.nfcn);
+        with_jac.push(d.njac > 0);
     }
     // The whole loop (incl. reading the counters, ~1 ns per call): the process CPU clock
     // is a system call (~1 us), too slow to read around every call.
@@ -234,7 +245,47 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
         max,
         min_nfcn,
         n,
+        with_jac,
     }
+}
+
+/// The machine's own jitter: `n` "calls" of a fixed amount of pure arithmetic (no memory
+/// beyond registers, no system call), calibrated to last about `target` seconds each, timed
+/// exactly as the FMU calls are. What its maximum shows is added to any call by the VM
+/// (preemption, interrupts, frequency changes), not by the FMU.
+fn jitter_floor(n: usize, target: f64) -> Vec<f64> {
+    fn spin(iters: u64, x: f64) -> f64 {
+        let mut x = x;
+        for _ in 0..iters {
+            x = std::hint::black_box(x * 0.999_999_9 + 1e-9);
+        }
+        x
+    }
+    // Calibrate: the median of a few timings of a known count.
+    let probe = 100_000u64;
+    let mut t = Vec::new();
+    let mut x = 1.0;
+    for _ in 0..7 {
+        let w0 = Instant::now();
+        x = spin(probe, x);
+        t.push(w0.elapsed().as_secs_f64());
+    }
+    let iters = ((target / median(t)) * probe as f64).max(1.0) as u64;
+    let mut wall = Vec::with_capacity(n);
+    for _ in 0..n {
+        let w0 = Instant::now();
+        x = spin(iters, x);
+        wall.push(w0.elapsed().as_secs_f64());
+    }
+    std::hint::black_box(x);
+    wall
+}
+
+/// Largest per-call time over the first 50 ms of simulated time and over the rest.
+fn max_split(wall: &[f64], h: f64) -> (f64, f64) {
+    let k = ((0.05 / h).round() as usize).min(wall.len());
+    let mx = |w: &[f64]| w.iter().cloned().fold(0.0, f64::max);
+    (mx(&wall[..k]), mx(&wall[k..]))
 }
 
 fn quantile(sorted: &[f64], q: f64) -> f64 {
@@ -252,6 +303,9 @@ fn main() {
     let repeats: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(3);
     let filter = args.get(2).cloned().unwrap_or_default();
     let per_call_cpu = args.get(3).is_some_and(|a| a == "cpu");
+    // With a case filter that selects "rt 2.5e-5 omega1": also the jitter floor of the
+    // machine, an arithmetic loop as long as that case's median call, timed the same way.
+    let jitter = std::env::var("BENCH_JITTER").is_ok_and(|v| v == "1");
     let has_rt = vr_of("h_fixed").is_some();
     println!(
         "closed-loop benchmark: default pair, rtol 1e-6, {T_END} s simulated per run, {repeats} repeats (medians; max also best of runs), {} online CPUs",
@@ -262,7 +316,12 @@ fn main() {
         "case", "H [s]", "CPU/10ms", "x RT", "ratio", "med us", "p99", "p99.9", "max", "bestmx", "cpumx",
         "steps", "rej", "newt", "jac", "lu", "nfcn", "mxfcn"
     );
+    // BENCH_H=1e-5 (or 1e-4) restricts the run to one communication step size.
+    let only_h: Option<f64> = std::env::var("BENCH_H").ok().and_then(|s| s.parse().ok());
     for h in [1e-4, 1e-5] {
+        if only_h.is_some_and(|o| o != h) {
+            continue;
+        }
         let mut cases = vec![
             Case {
                 name: "const",
@@ -305,7 +364,12 @@ fn main() {
         }
         let mut cpu_const = f64::NAN;
         for case in cases {
-            if !case.name.contains(filter.as_str()) {
+            // "=a,b": exactly these cases; otherwise a substring of the name.
+            let selected = match filter.strip_prefix('=') {
+                Some(names) => names.split(',').any(|n| n == case.name),
+                None => case.name.contains(filter.as_str()),
+            };
+            if !selected {
                 continue;
             }
             let runs: Vec<RunResult> = (0..repeats).map(|_| run(case, h, per_call_cpu)).collect();
@@ -350,6 +414,66 @@ fn main() {
                 println!(
                     "{:<22} per doStep: nfcn {}..{}, LU pairs max {}, Jacobians max {}, rejections max {}",
                     "", r.min_nfcn, r.max.nfcn, r.max.ndec, r.max.njac, r.max.nrejct
+                );
+                // Median call with and without a Jacobian + LU renewal (the schedule's
+                // slowest and typical doStep), medians over the runs.
+                let part = |j: bool| {
+                    median(
+                        runs.iter()
+                            .map(|r| {
+                                median(
+                                    r.wall
+                                        .iter()
+                                        .zip(&r.with_jac)
+                                        .filter(|(_, &w)| w == j)
+                                        .map(|(x, _)| *x * 1e6)
+                                        .collect(),
+                                )
+                            })
+                            .collect(),
+                    )
+                };
+                if r.with_jac.iter().any(|&w| !w) {
+                    println!(
+                        "{:<22} median call with J + LU {:.1} us, without {:.1} us",
+                        "",
+                        part(true),
+                        part(false)
+                    );
+                }
+            }
+            let splits: Vec<(f64, f64)> = runs.iter().map(|r| max_split(&r.wall, h)).collect();
+            println!(
+                "{:<22} max per call [us], first 50 ms / after, per run: {}",
+                "",
+                splits
+                    .iter()
+                    .map(|(a, b)| format!("{:.0}/{:.0}", a * 1e6, b * 1e6))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            if jitter && case.name == "rt 2.5e-5 omega1" {
+                let target = median(q[0].clone()) * 1e-6;
+                let mut q = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
+                for _ in 0..repeats {
+                    let mut w = jitter_floor(r.n, target);
+                    w.sort_by(f64::total_cmp);
+                    for (k, p) in [0.5, 0.99, 0.999, 1.0].into_iter().enumerate() {
+                        q[k].push(quantile(&w, p) * 1e6);
+                    }
+                }
+                println!(
+                    "{:<22} {:>7.0e} {:>9} {:>6} {:>6} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1}",
+                    "arithmetic loop",
+                    h,
+                    "",
+                    "",
+                    "",
+                    median(q[0].clone()),
+                    median(q[1].clone()),
+                    median(q[2].clone()),
+                    median(q[3].clone()),
+                    q[3].iter().cloned().fold(f64::INFINITY, f64::min),
                 );
             }
         }

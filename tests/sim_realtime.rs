@@ -71,6 +71,63 @@ fn work_per_do_step_is_the_same_for_every_do_step() {
     }
 }
 
+/// Shorter doSteps renew J and the LU pair on a fixed schedule of the time grid, not at
+/// every doStep: with H = 1e-5 s (= h_fixed, one internal step) on the doSteps from
+/// t = k H with k a multiple of 10 (J at most 1e-4 s old, as with one J per doStep of
+/// 1e-4 s), plus the doStep after a new tunable (mu, which changes J); the f evaluations
+/// and solves are the same for every doStep (9 and 3), whatever the inputs do.
+#[test]
+fn shorter_do_steps_renew_the_jacobian_on_a_fixed_schedule() {
+    let h = 1e-5;
+    let mut s = sim(1e-6, 1e-5);
+    let nit = u64::from(NEWTON_ITERATIONS);
+    for k in 0..300u64 {
+        let t = k as f64 * h;
+        s.set_input(Input::Omega1, omega1(t)).unwrap();
+        if k >= 150 {
+            s.set_input(Input::TLoad, 5.0 * (2.0 * PI * 50.0 * t).sin())
+                .unwrap();
+        }
+        // A new tunable off the schedule: J changes, renewed at once.
+        if k == 203 {
+            s.set_mu(0.06).unwrap();
+        }
+        let w = s.do_step(t, h).unwrap().stats;
+        let renew = u64::from(k % 10 == 0 || k == 203);
+        assert_eq!(
+            (w.nfcn, w.nsol, w.njac, w.ndec, w.nstep, w.nrejct),
+            (3 * nit, nit, renew, renew, 1, 0),
+            "doStep {k}: {w}"
+        );
+    }
+    // From t = 100 s (the master's t + H differs from H by ulps of t, 1.4e-9 of H): the
+    // same schedule, the LU pair kept across the round-off.
+    let t0 = 100.0;
+    let mut s = Simulation::new(
+        Params::default(),
+        SolverSettings {
+            rtol: 1e-6,
+            h_max: 1e-4,
+        },
+        t0,
+        W0,
+        0.0,
+    )
+    .unwrap();
+    s.set_h_fixed(1e-5).unwrap();
+    for k in 0..200u64 {
+        let t = t0 + k as f64 * h;
+        s.set_input(Input::Omega1, omega1(t)).unwrap();
+        let w = s.do_step(t, h).unwrap().stats;
+        let renew = u64::from(((t / h).round() as u64).is_multiple_of(10));
+        assert_eq!(
+            (w.nfcn, w.njac, w.ndec),
+            (3 * nit, renew, renew),
+            "t = {t}: {w}"
+        );
+    }
+}
+
 /// H = 1e-4 s, h_fixed = 2.5e-5 s, omega1 changing at every point: T1 within 1e-3 of the
 /// mean reference T1 of an adaptive run at rtol 1e-8 driven by the same held input at the
 /// same points (sampled at every point over 0.1 s, incl. the start-up transient); Fn and

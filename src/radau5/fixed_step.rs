@@ -83,6 +83,12 @@ impl<const N: usize> Radau5<N> {
         Ok(())
     }
 
+    /// The step size of the LU pair if there is a valid one (a fixed step must use it, see
+    /// [`Radau5::fixed_step`]).
+    pub fn fixed_lu_step(&self) -> Option<f64> {
+        (self.st.lu_valid && self.st.jac_valid).then_some(self.st.h_lu)
+    }
+
     /// Replaces `y` at the current point (a caller's re-projected algebraic components or
     /// a state after a jump of f) without evaluating anything: the next fixed step starts
     /// from it. The Newton start of that step is still extrapolated from the last step's

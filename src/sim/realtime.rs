@@ -4,9 +4,14 @@
 //! `H / n` (the largest divisor of H not above `h_fixed`), each a fixed-step RADAU5 step
 //! with [`NEWTON_ITERATIONS`] simplified Newton iterations (`Radau5::fixed_step`): no error
 //! control, no rejection, no look-ahead, no mesh-event stops. The Jacobian and the LU pair
-//! are renewed once at the start of every doStep (`Radau5::fixed_prepare`, at most H old),
-//! so the work per doStep is 1 Jacobian, 1 LU pair, `3 n NEWTON_ITERATIONS` f evaluations
-//! and `n NEWTON_ITERATIONS` linear solves, whatever the inputs do. A new input function
+//! are renewed (`Radau5::fixed_prepare`) at the start of a doStep on a fixed schedule of
+//! the time grid ([`jacobian_period`]): every doStep when H >= [`JACOBIAN_INTERVAL`], else
+//! every m-th, so that J is never older than [`JACOBIAN_INTERVAL`] (as with one J per
+//! doStep of H = 1e-4 s). So the work of every doStep is `3 n NEWTON_ITERATIONS` f
+//! evaluations and `n NEWTON_ITERATIONS` linear solves, plus 1 Jacobian and 1 LU pair on
+//! the scheduled doSteps (all of them for H >= 1e-4 s), whatever the inputs do; off the
+//! schedule also after a new tunable, a failed doStep or a new internal step size (more
+//! than round-off of t away from the LU pair's). A new input function
 //! (or tunable) at the communication point re-projects lambda onto the hidden constraint
 //! as in the adaptive mode, without an f evaluation (the fixed step needs none at its
 //! start). A Newton iteration that has not converged within its fixed count ends the
@@ -26,6 +31,46 @@ use nalgebra::SVector;
 /// H in {1e-5, 1e-4, 1e-3} s and h_fixed in {1e-5, 2.5e-5, 5e-5, 1e-4} s, and change T1 by
 /// less than 1e-9 relative against 2 where both pass.
 pub const NEWTON_ITERATIONS: u32 = 3;
+
+/// Longest time (s) one Jacobian and LU pair serve in the real-time mode: with one J
+/// per doStep of H = 1e-4 s (4 steps of h_fixed = 2.5e-5 s) the 3 Newton iterations
+/// converge (docs/fmu.md "Real-time mode"); shorter doSteps renew J at the same age, not
+/// at every doStep. Measured at H = 1e-5 s, h_fixed = 2.5e-5 s (`closed_loop_bench`,
+/// omega1 new at every point): J + LU are ~7 us of a ~15 us doStep; with them on every
+/// 10th doStep the median call is 7.9-8.0 us (was 15.0-15.1), CPU per 10 ms 9.1-9.3 ms
+/// (was 15.2-15.4; 0.65x -> 1.1x real time); the doSteps that renew them stay at ~15 us.
+/// Measured and not kept: 4e-4 s, which would renew J on every 4th doStep of H = 1e-4 s
+/// too (h_fixed = 2.5e-5 s: median call 32.5 -> 26.4 us, CPU per 10 ms 3.29 -> 2.76 ms;
+/// h_fixed = 1e-4 s: 15.0 -> 8.2 us; the accuracy figures of `realtime_accuracy` equal to
+/// 3 digits), but gives up equal work per doStep at the H = 1e-4 s.
+pub const JACOBIAN_INTERVAL: f64 = 1e-4;
+
+/// Every how many doSteps of length `span` the Jacobian and the LU pair are renewed: the
+/// largest m with `m span <= JACOBIAN_INTERVAL` (relative slack 1e-6 for the master's
+/// rounding of the span, ulps of t), at least 1. A doStep from t renews them when `round(t / span)` is a multiple
+/// of m (derived from time, so a restored or deserialised state follows the same
+/// schedule).
+pub fn jacobian_period(span: f64) -> u64 {
+    ((JACOBIAN_INTERVAL / span) * (1.0 + 1e-6)).floor().max(1.0) as u64
+}
+
+/// Whether the doStep `[t, t + span]` is on the schedule of [`jacobian_period`]. The grid
+/// index `round(t / span)` carries the round-off of the span (ulps of t over H): exact to
+/// well below 1/2 up to t / H ~ 1e7 (100 s at H = 1e-5 s); beyond, a renewal may come one
+/// doStep early or late (J then at most (m + 1) H old).
+pub fn jacobian_due(t: f64, span: f64) -> bool {
+    let m = jacobian_period(span);
+    m == 1 || ((t / span).round() as i64).rem_euclid(m as i64) == 0
+}
+
+/// Whether an LU pair for the internal step `h_lu` serves a doStep ending at `t_end` with
+/// n internal steps of h: the spans `t_end - t` of a master's grid differ from H and from
+/// each other by round-off of t only (a few ulps of t: 1.4e-9 of H = 1e-5 s at t = 100 s),
+/// so h and h_lu may differ by that over n and no more (the step is then taken with
+/// `h_lu`, landing on `t_end` exactly all the same).
+fn lu_serves(h_lu: f64, h: f64, n: u64, t_end: f64) -> bool {
+    (h_lu - h).abs() <= 8.0 * f64::EPSILON * (t_end.abs() / n as f64 + h)
+}
 
 /// Number of internal steps of a doStep of length `span`: the smallest n with
 /// `span - slack <= n h_fixed`. `slack` absorbs the master's rounding of the
@@ -64,6 +109,8 @@ impl Simulation {
             sim.restart_pending = true;
             Err(e)
         };
+        // A new tunable (J changes) or a failed doStep: renew J and the LU pair now.
+        let renew_now = self.restart_pending;
         if self.change_pending() {
             // Only after a switch from the adaptive mode can the stepper be ahead.
             if let Err(e) = self.sync() {
@@ -89,14 +136,25 @@ impl Simulation {
         }
         let slack = super::comm_tolerance(t_end, t_end - t);
         let n = internal_steps(t_end - t, self.h_fixed, slack);
-        let h = (t_end - t) / n as f64;
+        let mut h = (t_end - t) / n as f64;
         // Progress (radau5.f's rule, as in the adaptive loop): t must resolve the step.
         if h.is_nan() || h <= super::STEP_RESOLUTION * t.abs() {
             let e = crate::radau5::Error::StepSizeTooSmall { t, h };
             return fail(self, solver_err(e, t));
         }
-        if let Err(e) = self.solver.fixed_prepare(&mut self.problem, h) {
-            return fail(self, solver_err(e, t));
+        // J and the LU pair: renewed on the schedule, else kept (with their h, which
+        // differs from this doStep's by rounding only).
+        let kept = self
+            .solver
+            .fixed_lu_step()
+            .filter(|&h_lu| lu_serves(h_lu, h, n, t_end));
+        match kept {
+            Some(h_lu) if !renew_now && !jacobian_due(t, t_end - t) => h = h_lu,
+            _ => {
+                if let Err(e) = self.solver.fixed_prepare(&mut self.problem, h) {
+                    return fail(self, solver_err(e, t));
+                }
+            }
         }
         for k in 1..=n {
             // Bounded work per doStep (`max_internal_steps`), as in the adaptive mode.
@@ -142,7 +200,27 @@ pub(super) fn check_h_fixed(h_fixed: f64) -> Result<(), ParamError> {
 
 #[cfg(test)]
 mod tests {
-    use super::internal_steps;
+    use super::{internal_steps, jacobian_due, jacobian_period};
+
+    #[test]
+    fn jacobian_schedule_keeps_its_age_below_the_interval() {
+        assert_eq!(jacobian_period(1e-4), 1);
+        assert_eq!(jacobian_period(1e-3), 1);
+        assert_eq!(jacobian_period(5e-5), 2);
+        assert_eq!(jacobian_period(1e-5), 10);
+        assert_eq!(jacobian_period(3e-5), 3);
+        // Spans with the round-off of t (at t = 0.1 s and t = 100 s; the latter 1.4e-9 of H).
+        assert_eq!(jacobian_period(0.1 + 1e-5 - 0.1), 10);
+        assert_eq!(jacobian_period((100.0 + 1e-5) - 100.0), 10);
+        assert_eq!(jacobian_period(1e-5 * (1.0 + 1e-8)), 10);
+        let due: Vec<bool> = (0..21)
+            .map(|k| jacobian_due(k as f64 * 1e-5, 1e-5))
+            .collect();
+        for (k, d) in due.iter().enumerate() {
+            assert_eq!(*d, k % 10 == 0, "doStep {k}");
+        }
+        assert!((0..50).all(|k| jacobian_due(k as f64 * 1e-4, 1e-4)));
+    }
 
     #[test]
     fn internal_step_is_the_largest_divisor_not_above_h_fixed() {
