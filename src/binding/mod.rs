@@ -144,7 +144,7 @@ impl GearedRotorFmu {
                     Fmi2Status::OK,
                     Category::Solver,
                     &format!(
-                        "real-time mode: h_fixed = {h_fixed:e} s: per doStep of H, ceil(H/h_fixed) equal steps of {} Newton iterations, one Jacobian and LU pair, no error control",
+                        "real-time mode: h_fixed = {h_fixed:e} s: per doStep of H, ceil(H/h_fixed) equal steps of {} Newton iterations, one Jacobian and LU pair (per doStep, or per 1e-4 s on a fixed time grid when H < 1e-4 s), no error control",
                         sim::realtime::NEWTON_ITERATIONS
                     ),
                 );
