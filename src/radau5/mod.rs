@@ -59,6 +59,7 @@
 mod error;
 mod fixed_step;
 pub mod linalg;
+mod linear_systems;
 pub mod options;
 mod problem;
 mod snapshot;

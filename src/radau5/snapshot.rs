@@ -38,7 +38,7 @@ impl<const N: usize> Radau5<N> {
     /// Continues from a snapshot as if the steps since it had never been taken.
     pub fn restore(&mut self, s: &Snapshot<N>) {
         self.st = s.state.clone();
-        self.pattern = super::stepper::MassPattern::new(&self.st.mass);
+        self.pattern = super::linear_systems::MassPattern::new(&self.st.mass);
     }
 }
 

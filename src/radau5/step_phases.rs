@@ -7,11 +7,10 @@
 
 use nalgebra::SVector;
 
+use super::linear_systems::{Blocks, MassPattern};
 use super::state::{Action, State};
 use super::step_size::{gustafsson_quotient, step_quotient};
-use super::stepper::{
-    eval, Blocks, Failure, MassPattern, MAX_RHS_FAILURES, MAX_SINGULAR, MAX_UNEXPECTED,
-};
+use super::stepper::{eval, Failure, MAX_RHS_FAILURES, MAX_SINGULAR, MAX_UNEXPECTED};
 use super::tableau::{T, TI};
 use super::{Error, Problem, Radau5};
 
