@@ -29,10 +29,10 @@
 //! reads only that output (the others' cost by difference); `BENCH_JITTER=1` adds
 //! the machine's jitter floor next to `rt 2.5e-5 omega1`, see [`jitter_floor`]).
 
+use geared_rotor::c_abi::Instance;
+use geared_rotor::c_abi::*;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{Causality, VarType, GUID, VARIABLES};
-use geared_rotor::fmi2::Instance;
-use geared_rotor::fmi2::*;
 use geared_rotor::radau5::Statistics;
 use std::f64::consts::PI;
 use std::ffi::CString;

@@ -14,9 +14,9 @@
 //!
 //! Run: `cargo run --release --example fmu_bench`.
 
+use geared_rotor::c_abi::*;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{Causality, VarType, GUID, VARIABLES};
-use geared_rotor::fmi2::*;
 use geared_rotor::rotor::Params;
 use geared_rotor::sim::{Simulation, SolverSettings};
 use std::ffi::CString;

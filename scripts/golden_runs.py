@@ -181,7 +181,11 @@ def cases(pkg: FmuPackage) -> dict[str, Callable[[], list]]:
     def refused() -> list:
         rows = []
         for bad in ({"mu": 2.0}, {"z1": 3}, {"omega1_filter_frequency": -1.0},
-                    {"b": 0.0}, {"x2": 0.0, "z2": 61, "z1": 23}):
+                    {"b": 0.0}, {"x2": 0.0, "z2": 61, "z1": 23},
+                    # the rules of the parameter tables (Params::validate)
+                    {"m1": 0.0}, {"J2": 0.0}, {"k2.z": -1.0}, {"d1.x": -1.0, "k1.y": -1.0},
+                    {"eta_oil": 0.0}, {"nu1": 0.6}, {"Ra": 0.0}, {"E2": 0.0},
+                    {"friction_law": 5}):
             r = Run(pkg, "refused")
             r.init(bad)
             rows += r.finish()

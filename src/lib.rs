@@ -1,6 +1,7 @@
 //! Geared rotor with tooth friction as an FMI 2.0 Co-Simulation unit.
 //!
-//! Layers (each knows only the ones below it):
+//! Layers (no circles: physics and solver know nothing of FMI; the FMI layer knows no model;
+//! the binding joins them; the C ABI exports the binding through the FMI layer):
 //! - [`gear`]: pair geometry (ISO 21771), mesh kinematics of the displaced centres,
 //!   contact lines and distributed Coulomb friction (`model.md` §2–§4).
 //! - [`rotor`]: the index-2 geared-rotor DAE in first-order form, its outputs and
@@ -11,9 +12,10 @@
 //!   n-th order harmonic approach (`model.md` §11, the paper's Fig. 3).
 //! - [`binding`]: the geared rotor as an FMI model (the only code that maps the FMU's
 //!   variables to physics), behind the contract `fmi2::model::Model`.
-//! - [`fmi2`]: the model-agnostic FMI 2.0 Co-Simulation layer: a thin unsafe C shell over a
-//!   safe, generic instance (state machine, argument checks, logging, FMU-state envelope).
-//!   It names no model: [`FmuModel`] below wires the binding into it.
+//! - [`fmi2`]: the model-agnostic FMI 2.0 Co-Simulation layer: a safe, generic instance
+//!   (state machine, argument checks, logging, FMU-state envelope) and the contract
+//!   `fmi2::model::Model`. It names no model.
+//! - [`c_abi`]: the thin unsafe C shell, every FMI 2.0 function for [`FmuModel`].
 //! - [`parameter`]: how a parameter is described (name, unit, default, bounds, rule) and
 //!   [`parameter::ParamError`]; the tables are with the layers (`rotor::param_table`).
 //! - [`bytes`]: the one byte reader/writer (FMU state, RADAU5 snapshot).
@@ -22,6 +24,7 @@
 
 pub mod binding;
 pub mod bytes;
+pub mod c_abi;
 pub mod fmi2;
 pub mod fmt_num;
 pub mod gear;

@@ -35,6 +35,15 @@ impl fmt::Display for ParamError {
 
 impl std::error::Error for ParamError {}
 
+/// A default for a message: `2e8` rather than `200000000`.
+fn readable(x: f64) -> String {
+    if x != 0.0 && !(1e-3..1e5).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        Short(x).to_string()
+    }
+}
+
 /// Whether a parameter is a real number or an integer (stored as f64 in tables, as i32
 /// in the model).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -158,7 +167,7 @@ impl<T> Parameter<T> {
                     "{} (unit {}, default {})",
                     self.rule.text(self.name),
                     self.unit,
-                    Short(self.default)
+                    readable(self.default)
                 ),
             })
         }

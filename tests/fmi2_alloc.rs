@@ -36,7 +36,7 @@ fn do_step_and_get_real_do_not_allocate() {
         assert_eq!(f.step(t, h), Fmi2Status::OK);
         t += h;
         let st = unsafe {
-            geared_rotor::fmi2::fmi2GetReal(f.c, outs.as_ptr(), outs.len(), vals.as_mut_ptr())
+            geared_rotor::c_abi::fmi2GetReal(f.c, outs.as_ptr(), outs.len(), vals.as_mut_ptr())
         };
         assert_eq!(st, Fmi2Status::OK);
         // A master re-setting an unchanged input, and a held input step every 100 steps.
@@ -44,7 +44,7 @@ fn do_step_and_get_real_do_not_allocate() {
         // teeth off at 4.45 ms, Fn down to -128 N, which the FMU now reports with
         // fmi2Warning and a message.)
         let w = if (k / 100) % 2 == 0 { 314.159 } else { 316.0 };
-        let st = unsafe { geared_rotor::fmi2::fmi2SetReal(f.c, &omega1, 1, &w) };
+        let st = unsafe { geared_rotor::c_abi::fmi2SetReal(f.c, &omega1, 1, &w) };
         assert_eq!(st, Fmi2Status::OK);
     }
     // One long communication step (many internal steps).

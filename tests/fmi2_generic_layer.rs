@@ -51,6 +51,7 @@ impl Model for Lag {
     type Error = LagError;
     type State = (f64, f64, f64, Option<f64>);
     const TOLERANCE_RANGE: (f64, f64) = (1e-10, 1e-2);
+    const TOLERANCE_NAME: &'static str = "the lag's tolerance";
 
     fn instantiate() -> Self {
         Lag {

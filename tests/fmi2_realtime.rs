@@ -5,9 +5,9 @@
 mod common;
 
 use common::fmi2::Fmu;
+use geared_rotor::c_abi::*;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::by_name;
-use geared_rotor::fmi2::*;
 use std::f64::consts::PI;
 use std::ptr;
 

@@ -5,9 +5,9 @@ mod common;
 
 use common::alloc::allocations;
 use common::fmi2::Fmu;
+use geared_rotor::c_abi::*;
 use geared_rotor::fmi2::types::Fmi2Status;
 use geared_rotor::fmi2::variables::{by_name, Causality, VarType, VARIABLES};
-use geared_rotor::fmi2::*;
 
 #[global_allocator]
 static GLOBAL: common::alloc::Counting = common::alloc::Counting;

@@ -10,9 +10,9 @@
 mod common;
 
 use common::fmi2::Fmu;
+use geared_rotor::c_abi::*;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{by_name, Causality, VarType, VARIABLES};
-use geared_rotor::fmi2::*;
 use geared_rotor::radau5::Snapshot;
 use geared_rotor::rotor::{Params, NY};
 use geared_rotor::sim::{Simulation, SolverSettings};

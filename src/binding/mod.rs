@@ -160,6 +160,7 @@ impl Model for GearedRotorFmu {
     type Error = BindingError;
     type State = BindingState;
     const TOLERANCE_RANGE: (f64, f64) = (RTOL_MIN, RTOL_MAX);
+    const TOLERANCE_NAME: &'static str = "rtol";
 
     fn instantiate() -> Self {
         GearedRotorFmu {

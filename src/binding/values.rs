@@ -4,7 +4,8 @@
 
 use crate::fmi2::model::Experiment;
 use crate::fmi2::variables::{self, Var, N_VARIABLES, VARIABLES};
-use crate::gear::{PairGeometry, ParamError};
+use crate::gear::PairGeometry;
+use crate::parameter::ParamError;
 use crate::rotor::{param_table, Outputs, Params};
 use crate::sim::{Initialization, Input, OnViolation, SolverSettings};
 
@@ -33,10 +34,16 @@ pub fn start_values() -> Values {
 pub fn params(values: &Values) -> Result<Params, ParamError> {
     let mut p = Params::default();
     for q in param_table::all() {
-        // Every table name is a variable of the model description (tests/rotor_parameter_table.rs).
-        if let Some(var) = variables::by_name(q.name()) {
-            q.set(&mut p, values[var.var as usize])?;
-        }
+        // Every table name is a variable of the model description (checked by
+        // tests/rotor_parameter_table.rs); a build whose description lost one says so here
+        // instead of running with the default.
+        let var = variables::by_name(q.name()).ok_or_else(|| ParamError {
+            name: q.name(),
+            value: q.default_value(),
+            requirement: "a variable of the model description (the FMU was built without it)"
+                .into(),
+        })?;
+        q.set(&mut p, values[var.var as usize])?;
     }
     Ok(p)
 }

@@ -161,7 +161,7 @@ impl<M: Model> Instance<M> {
                     Fmi2Status::Warning,
                     Category::Warning,
                     &format!(
-                        "{func}: tolerance = {t:e} is outside the range the solver supports, [{lo:e}, {hi:e}]; using rtol = {used:e}"
+                        "{func}: tolerance = {t:e} is outside the range the solver supports, [{lo:e}, {hi:e}]; using {} = {used:e}", M::TOLERANCE_NAME
                     ),
                 );
                 status = Fmi2Status::Warning;

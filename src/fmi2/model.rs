@@ -46,6 +46,9 @@ pub trait Model: Sized {
     /// The range of relative tolerances the model's solver supports; a tolerance of
     /// fmi2SetupExperiment outside it is clamped into it with a warning.
     const TOLERANCE_RANGE: (f64, f64);
+    /// The name of the model's relative-tolerance parameter that the experiment's
+    /// tolerance stands in for (for messages).
+    const TOLERANCE_NAME: &'static str;
 
     /// The model with every variable at its start value (fmi2Instantiate, fmi2Reset).
     fn instantiate() -> Self;

@@ -19,7 +19,7 @@
 pub mod harmonic;
 pub mod shooting;
 
-use crate::gear::ParamError;
+use crate::parameter::ParamError;
 use crate::radau5::{self, Options, Radau5, Statistics, Tolerance};
 use crate::rotor::{
     idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, RotorProblem, NY, SCALES,

@@ -1,7 +1,8 @@
 //! Parameters and held inputs of the geared rotor (`model.md` §5, §10).
 
 use super::param_table::{self, ROTOR_PARAMETERS};
-use crate::gear::{FrictionLaw, FrictionParams, GearData, PairGeometry, ParamError};
+use crate::gear::{FrictionLaw, FrictionParams, GearData, PairGeometry};
+use crate::parameter::ParamError;
 
 /// Mass data of one rotor (`model.md` §5).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -4,7 +4,7 @@ use super::init::InitError;
 use super::validity::Violation;
 use crate::bytes::DecodeError;
 use crate::fmt_num::Short;
-use crate::gear::ParamError;
+use crate::parameter::ParamError;
 use crate::radau5;
 use crate::rotor::ModelError;
 use std::fmt;

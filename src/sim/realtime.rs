@@ -21,7 +21,7 @@
 //! Accuracy against the adaptive mode: docs/fmu.md "Real-time mode".
 
 use super::{idx, solver_err, SimError, Simulation, StepReport, NY};
-use crate::gear::ParamError;
+use crate::parameter::ParamError;
 use nalgebra::SVector;
 
 /// Simplified Newton iterations per internal step (fixed, never fewer, never more).

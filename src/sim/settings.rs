@@ -2,7 +2,7 @@
 //! simulation runs with (per-component tolerances from the physical scales).
 
 use super::mesh_events::MESH_EVENT_RESUME;
-use crate::gear::ParamError;
+use crate::parameter::ParamError;
 use crate::radau5::{Options, Tolerance};
 use crate::rotor::{idx, NY, SCALES};
 use nalgebra::SVector;

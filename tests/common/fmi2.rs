@@ -2,9 +2,9 @@
 //! instance (through componentEnvironment), a driver for the usual call sequence and call
 //! shorthands.
 
+use geared_rotor::c_abi::*;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{by_name, GUID};
-use geared_rotor::fmi2::*;
 use std::ffi::{c_void, CStr, CString};
 use std::sync::Mutex;
 

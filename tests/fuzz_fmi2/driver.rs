@@ -9,9 +9,9 @@
 //! Used by `tests/fuzz_fmi2.rs` (the CI run) and `examples/fuzz_fmi2.rs` (long runs).
 #![allow(dead_code)]
 
+use geared_rotor::c_abi::*;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{Causality, VarType, Variability, Variable, GUID, VARIABLES};
-use geared_rotor::fmi2::*;
 use std::ffi::{c_void, CStr, CString};
 use std::time::{Duration, Instant};
 

@@ -1,10 +1,10 @@
 //! fmi2Get/Set Real, Integer, Boolean, String.
 
+use super::FmuError;
 use super::{call, slice, slice_mut, OK};
 use crate::fmi2::state_machine::allowed;
 use crate::fmi2::types::*;
 use crate::fmi2::variables::VarType;
-use crate::fmi2::FmuError;
 
 /// fmi2GetReal.
 ///

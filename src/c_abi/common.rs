@@ -2,11 +2,11 @@
 //! initialisation, terminate, reset.
 
 use super::{call, slice, OK};
+use super::{FmuError, FmuState, Instance};
 use crate::fmi2::instance::INSTANCE_MAGIC;
 use crate::fmi2::logging::Category;
 use crate::fmi2::types::*;
 use crate::fmi2::variables::{self};
-use crate::fmi2::{FmuError, FmuState, Instance};
 use std::ffi::{c_int, c_void, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;

@@ -2,9 +2,9 @@
 //! directional derivatives (not provided).
 
 use super::{call, slice, slice_mut, OK};
+use super::{FmuError, FmuState, Instance};
 use crate::fmi2::state_machine::allowed;
 use crate::fmi2::types::*;
-use crate::fmi2::{FmuError, FmuState, Instance};
 use std::ptr;
 
 fn check_state(inst: &Instance, func: &'static str, s: Fmi2FMUstate) -> Result<(), FmuError> {

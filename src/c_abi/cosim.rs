@@ -1,9 +1,9 @@
 //! The co-simulation functions: input and output derivatives, doStep, cancel, status.
 
+use super::FmuError;
 use super::{call, slice, slice_mut, OK};
 use crate::fmi2::state_machine::allowed;
 use crate::fmi2::types::*;
-use crate::fmi2::FmuError;
 use std::ffi::c_int;
 
 /// fmi2SetRealInputDerivatives (order 1).

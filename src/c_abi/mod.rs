@@ -1,8 +1,11 @@
-//! The C ABI: every FMI 2.0 function with its standard name (`#[no_mangle]`), grouped by
-//! job. Each only checks the component pointer, turns C pointers into slices after NULL
+//! The C ABI of this library: every FMI 2.0 function with its standard name
+//! (`#[no_mangle]`; all common, all co-simulation and, as error stubs, all model-exchange
+//! functions, because masters refuse libraries that lack any of them), for the model
+//! [`FmuModel`] through the generic [`crate::fmi2::instance::Instance`]. Grouped by job.
+//! Each only checks the component pointer, turns C pointers into slices after NULL
 //! checks, calls the safe instance inside `catch_unwind` (a panic must never cross
 //! `extern "C"`) and maps the typed result to an `fmi2Status` via
-//! [`crate::fmi2::error::FmuError::status`].
+//! [`crate::fmi2::error::FmuError::status`] (the one place where that mapping lives).
 
 mod common;
 mod cosim;
@@ -16,8 +19,16 @@ pub use me_stubs::*;
 pub use state::*;
 pub use values::*;
 
-use super::types::*;
-use super::{FmuError, Instance};
+use crate::fmi2::types::*;
+
+/// The model behind this library's FMI functions (chosen at the crate root).
+pub use crate::FmuModel;
+/// An instance of [`FmuModel`].
+pub type Instance = crate::fmi2::instance::Instance<FmuModel>;
+/// An FMU state of [`FmuModel`].
+pub type FmuState = crate::fmi2::instance::FmuState<FmuModel>;
+/// The errors of the FMI functions.
+pub type FmuError = crate::fmi2::error::FmuError<<FmuModel as crate::fmi2::model::Model>::Error>;
 use crate::fmi2::instance::INSTANCE_MAGIC;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 

@@ -2,8 +2,8 @@
 //! refuse libraries that lack any of them).
 
 use super::call;
+use super::FmuError;
 use crate::fmi2::types::*;
-use crate::fmi2::FmuError;
 
 macro_rules! me_stub {
     ($name:ident ( $($arg:ident : $ty:ty),* )) => {
