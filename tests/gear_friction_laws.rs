@@ -421,8 +421,11 @@ fn law4_line_integrals_match_adaptive_quadrature() {
             0.0
         };
         let x0 = -omega.1 * lt + (omega.0 + omega.1) * sigma0 + jitter;
+        // axial sliding from none over tiny (both sides of the quadrature's switch at
+        // delta = 3e-6 d_far) to a third of the sliding at the tips
         let y = match i % 4 {
-            0 | 1 => 0.0,
+            0 => 0.0,
+            1 => rng.sym(1.0) * 10f64.powi(-3 - (i % 9) as i32),
             2 => rng.sym(1e-2),
             _ => rng.sym(0.3),
         };
@@ -459,18 +462,17 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         assert!(err.is_finite(), "case {i}: {li:?} {mu_int} vs {r:?}");
         if y == 0.0 {
             worst = worst.max(err);
-            assert!(
-                err < 2e-9,
-                "case {i}: x0 {x0} y {y} kappa {kappa} len {len} sigma0 {sigma0}: {li:?} {mu_int} vs {r:?}: {err:e}"
-            );
         } else {
             worst_y = worst_y.max(err);
         }
+        assert!(
+            err < 1e-10,
+            "case {i}: x0 {x0} y {y} kappa {kappa} len {len} sigma0 {sigma0}: {li:?} {mu_int} vs {r:?}: {err:e}"
+        );
     }
     println!(
         "law 4: line integrals against adaptive quadrature: worst {worst:.2e} (y = 0), {worst_y:.2e} (axial sliding y != 0)"
     );
-    assert!(worst_y < 1e-5, "{worst_y:e}");
 }
 
 #[test]
