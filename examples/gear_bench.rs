@@ -68,6 +68,31 @@ fn bench(params: Params) {
         "rhs: median {:.1} ns per evaluation (200 x {reps} reps)",
         median(samples) * 1e9
     );
+    // The same states with axial vibration (u1z' = -u2z' = 0.05 m/s): sliding along the
+    // lines, y != 0, which law 4 integrates with its axial-sliding rule.
+    let moving: Vec<SVector<f64, NY>> = states
+        .iter()
+        .map(|y| {
+            let mut y = *y;
+            y[geared_rotor::rotor::idx::V + 2] = 0.05;
+            y[geared_rotor::rotor::idx::V + 5] = -0.05;
+            y
+        })
+        .collect();
+    let mut samples = Vec::new();
+    for _ in 0..200 {
+        let t0 = Instant::now();
+        for r in 0..reps {
+            let y = &moving[r % moving.len()];
+            model.rhs(0.0, black_box(y), &mut f).expect("rhs");
+            black_box(&f);
+        }
+        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
+    }
+    println!(
+        "rhs with axial sliding: median {:.1} ns per evaluation (200 x {reps} reps)",
+        median(samples) * 1e9
+    );
     let mut jac = SMatrix::<f64, NY, NY>::zeros();
     let reps = 200;
     let mut samples = Vec::new();
