@@ -274,7 +274,7 @@ impl Line<'_> {
             return f64::INFINITY;
         }
         let (g1, g2) = (self.sigma0 - sb * s1, self.sigma0 - sb * s2);
-        g1.min(g2).min(self.e.lt - g1.max(g2)).max(0.0) / sb
+        g1.min(g2).min(self.e.lt - g1.max(g2)).max(0.0) / sb.abs()
     }
 
     /// n-point Gauss-Legendre (n = 6 or 8) on [a, a + len].
