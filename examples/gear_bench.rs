@@ -15,6 +15,22 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() {
+    // `gear_bench count LAW WHAT N`: exactly N evaluations (WHAT = rhs, rhs_moving or
+    // jacobian) for instruction counting (valgrind --tool=callgrind), no timing.
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() == 5 && args[1] == "count" {
+        let law = FrictionLaw::from_code(args[2].parse().expect("law code")).expect("law 1-4");
+        let n: usize = args[4].parse().expect("N");
+        count(
+            Params {
+                friction_law: law,
+                ..Params::default()
+            },
+            &args[3],
+            n,
+        );
+        return;
+    }
     for law in [
         FrictionLaw::Coulomb,
         FrictionLaw::RegularisedCoulomb,
@@ -68,6 +84,31 @@ fn bench(params: Params) {
         "rhs: median {:.1} ns per evaluation (200 x {reps} reps)",
         median(samples) * 1e9
     );
+    // The same states with axial vibration (u1z' = -u2z' = 0.05 m/s): sliding along the
+    // lines, y != 0, which law 4 integrates with its axial-sliding rule.
+    let moving: Vec<SVector<f64, NY>> = states
+        .iter()
+        .map(|y| {
+            let mut y = *y;
+            y[geared_rotor::rotor::idx::V + 2] = 0.05;
+            y[geared_rotor::rotor::idx::V + 5] = -0.05;
+            y
+        })
+        .collect();
+    let mut samples = Vec::new();
+    for _ in 0..200 {
+        let t0 = Instant::now();
+        for r in 0..reps {
+            let y = &moving[r % moving.len()];
+            model.rhs(0.0, black_box(y), &mut f).expect("rhs");
+            black_box(&f);
+        }
+        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
+    }
+    println!(
+        "rhs with axial sliding: median {:.1} ns per evaluation (200 x {reps} reps)",
+        median(samples) * 1e9
+    );
     let mut jac = SMatrix::<f64, NY, NY>::zeros();
     let reps = 200;
     let mut samples = Vec::new();
@@ -98,4 +139,44 @@ fn bench(params: Params) {
         "consistent lambda: median {:.1} ns per evaluation (50 x {reps} reps)",
         median(samples) * 1e9
     );
+}
+
+/// The default state over one mesh period (64 phases), optionally with axial vibration.
+fn states(model: &mut GearedRotor, moving: bool) -> Vec<SVector<f64, NY>> {
+    model.set_inputs(Inputs {
+        omega1: 314.159,
+        ..Inputs::default()
+    });
+    let (ic, _) = model
+        .static_equilibrium(0.0, 0.0)
+        .expect("static equilibrium");
+    let y0 = model.initialize_with(0.0, &ic).expect("initial state");
+    (0..64)
+        .map(|i| {
+            let mut y = y0;
+            y[geared_rotor::rotor::idx::PHI1] = i as f64 * 2.0 * std::f64::consts::PI / 27.0 / 64.0;
+            if moving {
+                y[geared_rotor::rotor::idx::V + 2] = 0.05;
+                y[geared_rotor::rotor::idx::V + 5] = -0.05;
+            }
+            y
+        })
+        .collect()
+}
+
+fn count(params: Params, what: &str, n: usize) {
+    let mut model = GearedRotor::new(params).expect("default parameters are valid");
+    let ys = states(&mut model, what == "rhs_moving");
+    let mut f = SVector::<f64, NY>::zeros();
+    let mut jac = SMatrix::<f64, NY, NY>::zeros();
+    for r in 0..n {
+        let y = &ys[r % ys.len()];
+        if what == "jacobian" {
+            assert!(model.jacobian(0.0, black_box(y), &mut jac));
+            black_box(&jac);
+        } else {
+            model.rhs(0.0, black_box(y), &mut f).expect("rhs");
+            black_box(&f);
+        }
+    }
 }

@@ -421,8 +421,11 @@ fn law4_line_integrals_match_adaptive_quadrature() {
             0.0
         };
         let x0 = -omega.1 * lt + (omega.0 + omega.1) * sigma0 + jitter;
+        // axial sliding from none over tiny (both sides of the quadrature's switch at
+        // delta = 3e-6 d_far) to a third of the sliding at the tips
         let y = match i % 4 {
-            0 | 1 => 0.0,
+            0 => 0.0,
+            1 => rng.sym(1.0) * 10f64.powi(-3 - (i % 9) as i32),
             2 => rng.sym(1e-2),
             _ => rng.sym(0.3),
         };
@@ -459,18 +462,17 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         assert!(err.is_finite(), "case {i}: {li:?} {mu_int} vs {r:?}");
         if y == 0.0 {
             worst = worst.max(err);
-            assert!(
-                err < 2e-9,
-                "case {i}: x0 {x0} y {y} kappa {kappa} len {len} sigma0 {sigma0}: {li:?} {mu_int} vs {r:?}: {err:e}"
-            );
         } else {
             worst_y = worst_y.max(err);
         }
+        assert!(
+            err < 1e-10,
+            "case {i}: x0 {x0} y {y} kappa {kappa} len {len} sigma0 {sigma0}: {li:?} {mu_int} vs {r:?}: {err:e}"
+        );
     }
     println!(
         "law 4: line integrals against adaptive quadrature: worst {worst:.2e} (y = 0), {worst_y:.2e} (axial sliding y != 0)"
     );
-    assert!(worst_y < 1e-5, "{worst_y:e}");
 }
 
 #[test]
@@ -543,4 +545,191 @@ fn law2_sums_reduce_to_coulomb_shapes() {
     let li = regularised_integrals(0.3, 0.0, 50.0, 0.01, 0.02);
     let c = line_integrals(0.3, 0.02, 50.0, 0.01);
     assert_eq!((li.ix, li.kx, li.iy, li.ky), (c.ix, c.kx, 0.0, 0.0));
+}
+
+/// Adaptive Gauss-Legendre (20 points against two halves) of N integrands over [a, b],
+/// each component's change measured against its own `scale`.
+fn adapt_n<const N: usize>(
+    f: &dyn Fn(f64) -> [f64; N],
+    a: f64,
+    b: f64,
+    tol: f64,
+    scale: &[f64; N],
+) -> [f64; N] {
+    let (x, w) = gauss_legendre(20);
+    let rule = |a: f64, b: f64| {
+        let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
+        let mut acc = [0.0; N];
+        for i in 0..x.len() {
+            let v = f(c + h * x[i]);
+            for k in 0..N {
+                acc[k] += h * w[i] * v[k];
+            }
+        }
+        acc
+    };
+    let total = b - a;
+    let mut stack = vec![(a, b, rule(a, b))];
+    let mut sum = [0.0; N];
+    while let Some((a, b, whole)) = stack.pop() {
+        let m = 0.5 * (a + b);
+        let (l, r) = (rule(a, m), rule(m, b));
+        let err = (0..N)
+            .map(|k| (l[k] + r[k] - whole[k]).abs() / scale[k])
+            .fold(0.0, f64::max);
+        if err <= tol * (b - a) / total || (b - a) < 1e-13 * total {
+            for k in 0..N {
+                sum[k] += l[k] + r[k];
+            }
+        } else {
+            stack.push((a, m, l));
+            stack.push((m, b, r));
+        }
+    }
+    sum
+}
+
+/// Law 4 on whole gear states: the crate's friction resultants (F2, M1, M2 and P_loss from
+/// `friction_sums_line`) against this file's own assembly: the force density
+/// `-q mu(s) v_T / |v_T|` on gear 2, with v_T the tangential part of the relative velocity
+/// at each point of each contact line (written here from the kinematics of rigid gears on
+/// moving centres) and mu from this file's local law, integrated adaptively along every
+/// line (split where the sliding across the line changes sign). Random states of six gear
+/// sets (helical both hands, spur) with bearing velocities up to 0.5 m/s, so that the
+/// lines slide along themselves (axial sliding) too.
+#[test]
+fn law4_resultants_match_adaptive_quadrature_on_random_gear_states() {
+    let mut rng = Rng(47);
+    let lub = FrictionParams::default().lubricant();
+    let mut worst: f64 = 0.0;
+    let mut cases = 0;
+    for d in gear_sets() {
+        let g = PairGeometry::new(&d).unwrap();
+        let (sb, cb) = (g.sin_beta_b, g.cos_beta_b);
+        for i in 0..40u32 {
+            let u1 = Vector3::new(rng.sym(3e-5), rng.sym(3e-5), rng.sym(3e-5));
+            let u2 = Vector3::new(rng.sym(3e-5), rng.sym(3e-5), rng.sym(3e-5));
+            let m = g.mesh(&u1, &u2).unwrap();
+            let omega1 = 100.0 + 300.0 * rng.next();
+            let omega2 = omega1 * g.rb1 / g.rb2 * (1.0 + rng.sym(1e-3));
+            let vs = [0.0, 1e-6, 1e-3, 0.5][i as usize % 4];
+            let k = Kinematics {
+                v1: Vector3::new(rng.sym(vs), rng.sym(vs), rng.sym(vs)),
+                v2: Vector3::new(rng.sym(vs), rng.sym(vs), rng.sym(vs)),
+                omega1,
+                omega2,
+            };
+            let phi1 = rng.sym(1e3);
+            let lambda = 200.0 + 5000.0 * rng.next();
+            let psi0 = 0.3;
+            let mut segs = Vec::new();
+            let summary = g.for_each_segment(&m, phi1, psi0, |s| segs.push(*s));
+            let l = summary.length;
+            if l == 0.0 {
+                continue;
+            }
+            let q = lambda / l;
+            let e = EhlLine::new(&lub, q, omega1, omega2, m.len_t1t2, cb, sb);
+            let fr = g
+                .friction_sums_line(&m, phi1, psi0, &k, &LineLaw::Ehl(e))
+                .resultants(1.0, lambda);
+            // local frame (e_w, t, e_z): relative velocity of gear 2 against gear 1 at P
+            let dv = k.v2 - k.v1;
+            let (cp, sp) = (m.cos_psi, m.sin_psi);
+            let dvl = [dv.x * cp + dv.y * sp, -dv.x * sp + dv.y * cp, dv.z];
+            let lt = m.len_t1t2;
+            let c = [0.0, -sb, cb];
+            let cross = |a: [f64; 3], b: [f64; 3]| {
+                [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ]
+            };
+            let mut sum = [0.0f64; 10];
+            for seg in &segs {
+                let point = |s: f64| -> [f64; 10] {
+                    let sigma = seg.sigma0 - sb * s;
+                    let zz = seg.z0 + cb * s;
+                    let v = [
+                        dvl[0] + (omega1 + omega2) * sigma - omega2 * lt,
+                        dvl[1] + omega2 * g.rb2 - omega1 * g.rb1,
+                        dvl[2],
+                    ];
+                    let (vw, vc) = (v[0], v[1] * c[1] + v[2] * c[2]);
+                    let r = (vw * vw + vc * vc).sqrt();
+                    if r == 0.0 {
+                        return [0.0; 10];
+                    }
+                    let mu = local_mu(sigma, r, q, (omega1, omega2), lt, cb, &lub);
+                    // force density on gear 2 in local components
+                    let f2 = [
+                        -q * mu * vw / r,
+                        -q * mu * vc * c[1] / r,
+                        -q * mu * vc * c[2] / r,
+                    ];
+                    let m2 = cross([-g.rb2, sigma - lt, zz - m.c2.z], f2);
+                    let m1 = cross([g.rb1, sigma, zz - m.c1.z], [-f2[0], -f2[1], -f2[2]]);
+                    [
+                        f2[0],
+                        f2[1],
+                        f2[2],
+                        m1[0],
+                        m1[1],
+                        m1[2],
+                        m2[0],
+                        m2[1],
+                        m2[2],
+                        q * mu * r,
+                    ]
+                };
+                // sliding across the line x(s) is linear: split at its root
+                let x_at = |s: f64| point(s);
+                let x0 = dvl[0] + (omega1 + omega2) * seg.sigma0 - omega2 * lt;
+                let kappa = (omega1 + omega2) * sb;
+                let root = if kappa != 0.0 { x0 / kappa } else { f64::NAN };
+                let parts: Vec<(f64, f64)> = if root > 0.0 && root < seg.length {
+                    vec![(0.0, root), (root, seg.length)]
+                } else {
+                    vec![(0.0, seg.length)]
+                };
+                // natural scales: the friction force ~ 0.05 lambda, its moments ~ that
+                // times a_w, the loss ~ that times a few m/s
+                let mut scale = [0.05 * lambda; 10];
+                for sc in scale.iter_mut().skip(3).take(6) {
+                    *sc *= g.a_w;
+                }
+                for (a, b) in parts {
+                    let v = adapt_n(&x_at, a, b, 1e-14, &scale);
+                    for k in 0..10 {
+                        sum[k] += v[k];
+                    }
+                }
+            }
+            let f2 = m.to_inertial(sum[0], sum[1], sum[2]);
+            let m1 = m.to_inertial(sum[3], sum[4], sum[5]);
+            let m2 = m.to_inertial(sum[6], sum[7], sum[8]);
+            // each resultant relative to its own size
+            let rel = |a: Vector3<f64>, b: Vector3<f64>| (a - b).norm() / b.norm();
+            let errs = [
+                rel(fr.f2, f2),
+                rel(fr.f1, -f2),
+                rel(fr.m1, m1),
+                rel(fr.m2, m2),
+                (fr.p_loss - sum[9]).abs() / sum[9],
+            ];
+            let e = errs.iter().cloned().fold(0.0, f64::max);
+            assert!(
+                e < 1e-10,
+                "{d:?} case {i}: y {} errors (F2, F1, M1, M2, P_loss) {errs:?}: F2 {:?} vs {f2:?}, P_loss {} vs {}",
+                -sb * (dvl[1] + omega2 * g.rb2 - omega1 * g.rb1) + cb * dvl[2],
+                fr.f2,
+                fr.p_loss,
+                sum[9]
+            );
+            worst = worst.max(e);
+            cases += 1;
+        }
+    }
+    println!("law 4 resultants against adaptive quadrature on {cases} gear states: worst relative error {worst:.2e}");
 }

@@ -250,6 +250,65 @@ fn reversal_jump(law: FrictionLaw, delta: f64) -> f64 {
     jump
 }
 
+/// f of the spur pair (rigid rotation, lambda = 2700 N) just before and after a line
+/// enters the contact at sigma_A: the jump of the friction force on gear 2 (velocity rows
+/// of u2) and the jump this file expects from the rigid-tooth load sharing: with n lines
+/// before and n + 1 after, each carrying lambda / (number of lines) and sliding with the
+/// sign of sigma - sigma_C, `|dF2| = mu lambda |S_after/(n+1) - S_before/n|` (S: the sum
+/// of the signs). Returns (measured, expected).
+fn entry_jump(law: FrictionLaw, delta: f64) -> (f64, f64) {
+    let mut p = with_law(law);
+    p.gear.beta = 0.0;
+    let mut model = driven(p, 314.159);
+    let g = *model.geometry();
+    let m = g.mesh(&Vector3::zeros(), &Vector3::zeros()).unwrap();
+    // line k = 0 at sigma = r_b1 (phi1 - theta + alpha + inv alpha_wt): put it at sigma_A -/+ delta
+    let phi_a = g.sigma_a / g.rb1 + m.theta - m.alpha - g.inv_alpha_wt;
+    let y_at = |model: &GearedRotor, phi1: f64| {
+        let mut y = model.rigid_rotation_state(0.0, phi1).unwrap();
+        y[idx::LAMBDA] = 2700.0;
+        y
+    };
+    let mut f = [SVector::<f64, NY>::zeros(); 2];
+    let mut expected = [0.0; 2];
+    for (j, sgn) in [-1.0, 1.0].iter().enumerate() {
+        let phi1 = phi_a + sgn * delta / g.rb1;
+        let y = y_at(&model, phi1);
+        model.rhs(0.0, &y, &mut f[j]).unwrap();
+        // lines at sigma_A + sgn delta + k p_bt inside [sigma_A, sigma_E]
+        let (mut n, mut signs) = (0.0, 0.0);
+        for k in -5..=5 {
+            let sigma = g.sigma_a + sgn * delta + k as f64 * g.p_bt;
+            if sigma >= g.sigma_a && sigma <= g.sigma_e {
+                n += 1.0;
+                signs += (sigma - g.sigma_c).signum();
+            }
+        }
+        expected[j] = signs / n;
+    }
+    let df = ((f[1][idx::V + 3] - f[0][idx::V + 3]).powi(2)
+        + (f[1][idx::V + 4] - f[0][idx::V + 4]).powi(2))
+    .sqrt();
+    (df, p.mu * 2700.0 * (expected[1] - expected[0]).abs())
+}
+
+#[test]
+fn spur_line_entry_jump_remains_for_laws_1_and_2() {
+    // Law 2 removes the jump at the sliding reversal only: where a line enters, the load
+    // per length q = lambda / l redistributes at once (rigid teeth), and at sigma_A the
+    // sliding speed (m/s) is far above v_reg, so both laws jump by the load-sharing step.
+    let mut rows = Vec::new();
+    for delta in [1e-8, 1e-10] {
+        let (j1, e1) = entry_jump(FrictionLaw::Coulomb, delta);
+        let (j2, e2) = entry_jump(FrictionLaw::RegularisedCoulomb, delta);
+        rows.push((delta, j1, j2, e1));
+        assert!((j1 / e1 - 1.0).abs() < 1e-6, "law 1: {j1} vs {e1}");
+        // law 2: the regularised direction at |v| >> v_reg differs by (v_reg/v)^2 / 2
+        assert!((j2 / e2 - 1.0).abs() < 1e-3, "law 2: {j2} vs {e2}");
+    }
+    println!("spur line entry: (delta [m], |dF2| law 1, law 2, expected [N]) = {rows:?}");
+}
+
 #[test]
 fn law2_spur_pair_has_no_jump_at_the_sliding_reversal() {
     let mut rows = Vec::new();

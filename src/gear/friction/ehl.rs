@@ -27,50 +27,18 @@
 //! (Xu 2005): P_h 0.5..2.5 GPa, SR up to ~1, V_e a few to ~30 m/s, typical automotive
 //! gear oils; elsewhere it is an extrapolation (V_e is floored at [`V_E_MIN`]).
 //!
-//! Quadrature: each segment is split where x(s) changes sign. Near that root the
-//! integrand is `d^b3 g(d)` in the distance d from it, with g smooth (for y = 0), so each
-//! side is integrated by a 10-point Gauss-Jacobi rule for the weight d^b3 on
-//! [0, d_far/2] (minus [0, d_near] when the root lies just outside the segment) and
-//! 10-point Gauss-Legendre on [d_far/2, d_far]; with axial sliding
-//! (y != 0) by Gauss-Legendre in t with d = d_far t^3; a side whose root lies farther away
-//! than a quarter of its length gets 10-point Gauss-Legendre. Spur lines (sigma constant along the
-//! line) need one evaluation of mu. No allocation.
+//! Quadrature: see [`quadrature`] (split at the pitch line, a Gauss-Jacobi panel for
+//! the weight d^(b3-1) there, a sinh map across the branch points of axial sliding,
+//! graded Gauss-Legendre panels beyond; 1e-11 against adaptive quadrature). Spur lines
+//! (sigma constant along the line) need one evaluation of mu. No allocation.
 
-use super::{LineIntegrals, GL_W, GL_X};
+use super::LineIntegrals;
+
+pub mod quadrature;
 
 /// Xu et al. (2007) coefficients b1..b9 for the 75W90 oil.
 pub const XU_B: [f64; 9] = [
     -8.916465, 1.03303, 1.036077, -0.354068, 2.812084, -0.100601, 0.752755, -0.390958, 0.620305,
-];
-
-/// Nodes of the 10-point Gauss-Jacobi rule for `int_0^1 u^b3 g(u) du` (b3 = 1.036077 of
-/// [`XU_B`]), by Golub-Welsch in 40-digit arithmetic (exact for g of degree <= 19).
-#[allow(clippy::excessive_precision)]
-const GJ_X: [f64; 10] = [
-    0.030688807066477196945,
-    0.099387846150663433585,
-    0.20035837284406491832,
-    0.32543840655260438154,
-    0.46452608923152146914,
-    0.60638959860929487547,
-    0.73957338606247751589,
-    0.85332332740648847286,
-    0.93845662125485954481,
-    0.98811947854616804332,
-];
-/// Weights matching [`GJ_X`] (they sum to 1/(1 + b3)).
-#[allow(clippy::excessive_precision)]
-const GJ_W: [f64; 10] = [
-    0.001365642086831812379,
-    0.0078641079999687145576,
-    0.021661915834414182589,
-    0.041843787718258343456,
-    0.064342586476047226498,
-    0.083021786306639125953,
-    0.091559848538750126175,
-    0.085525141077227033331,
-    0.063961333900589901045,
-    0.029994411051845108667,
 ];
 
 /// Floor of the entraining speed V_e (m/s) (guard at standstill, outside the fit).
@@ -109,10 +77,8 @@ impl Lubricant {
 pub struct EhlLine {
     /// Constant part of ln mu: b1 + b9 e^S + b7 ln nu0 + b2 ln(P_h sqrt(R)).
     ln_k: f64,
-    /// P_h sqrt(R) (GPa m^0.5) = sqrt(q E' / (2 pi)) 1e-9.
-    ph_c: f64,
-    /// log10(nu0 (mPa s)).
-    log10_nu: f64,
+    /// P_h sqrt(R) log10(nu0): z = SR P_h log10(nu0) = r z_coef / (V_e sqrt(R)).
+    z_coef: f64,
     omega1: f64,
     omega2: f64,
     /// L_t = a sin alpha (m).
@@ -140,8 +106,7 @@ impl EhlLine {
         let ln_k = b[0] + b[8] * (lub.roughness * 1e6).exp() + b[6] * nu.ln() + b[1] * ph_c.ln();
         EhlLine {
             ln_k,
-            ph_c,
-            log10_nu: nu.log10(),
+            z_coef: ph_c * nu.log10(),
             omega1,
             omega2,
             lt,
@@ -154,30 +119,46 @@ impl EhlLine {
     /// everything that varies along a line: R(sigma), V_e(sigma), SR = r / V_e.
     #[inline]
     pub fn mu_at(&self, sigma: f64, r: f64) -> f64 {
-        self.mu_over_power(sigma, r, 1.0)
+        if !(r > 0.0) {
+            return 0.0;
+        }
+        (self.ln_mu_over_slide(sigma, r) + XU_B[2] * r.ln()).exp()
     }
 
-    /// `mu / d^b3` for a distance d > 0 (m) (the quadrature's weight d^b3 divided out
-    /// analytically: `b3 ln(r / d)` in place of `b3 ln r`); `d = 1` gives mu.
+    /// `ln mu - b3 ln r` at sigma for the sliding speed r >= 0: the part of ln mu that is
+    /// smooth where the sliding vanishes (-inf outside the line of action, so that its
+    /// exponential is 0). Two logarithms and one exponential:
+    /// `ln_k + b4 z + b5 e^-z + (b8 - b2/2) ln R + (b6 - b3) ln V_e` with
+    /// `z = SR P_h log10(nu0) = r (P_h sqrt(R)) log10(nu0) / (V_e sqrt(R))`.
     #[inline]
-    fn mu_over_power(&self, sigma: f64, r: f64, d: f64) -> f64 {
+    pub(crate) fn ln_mu_over_slide(&self, sigma: f64, r: f64) -> f64 {
         let b = XU_B;
         let (rho1, rho2) = (sigma, self.lt - sigma);
-        if !(rho1 > 0.0 && rho2 > 0.0 && r > 0.0) {
-            return 0.0;
+        if !(rho1 > 0.0 && rho2 > 0.0) {
+            return f64::NEG_INFINITY;
         }
         let rr = rho1 * rho2 * self.inv_lt_cb;
         let ve = (0.5 * (self.omega1 * rho1 + self.omega2 * rho2))
             .abs()
             .max(V_E_MIN);
-        let z = r / ve * (self.ph_c / rr.sqrt()) * self.log10_nu;
-        let ln_mu = self.ln_k
+        let z = r * self.z_coef / (ve * rr.sqrt());
+        self.ln_k
             + b[3] * z
             + b[4] * (-z).exp()
             + (b[7] - 0.5 * b[1]) * rr.ln()
             + (b[5] - b[2]) * ve.ln()
-            + b[2] * (r / d).ln();
-        ln_mu.exp()
+    }
+
+    /// `z = SR P_h log10(nu0)` at sigma for the sliding speed r (the argument of the
+    /// exponentials of the law; the quadrature bounds its range per panel).
+    #[inline]
+    pub(crate) fn z_at(&self, sigma: f64, r: f64) -> f64 {
+        let (rho1, rho2) = (sigma, self.lt - sigma);
+        let rr = (rho1 * rho2 * self.inv_lt_cb).abs();
+        let ve = (0.5 * (self.omega1 * rho1 + self.omega2 * rho2))
+            .abs()
+            .max(V_E_MIN);
+        (r * self.z_coef / (ve * rr.sqrt())).abs()
     }
 
     /// The five integrals of `mu(s) v_T / |v_T|` (and `int mu r ds` as W) for one segment
@@ -213,139 +194,6 @@ impl EhlLine {
             }
             return (LineIntegrals::default(), len * mu);
         }
-        let ctx = Ctx {
-            x0,
-            y,
-            kappa,
-            sigma0,
-        };
-        let mut acc = Acc::default();
-        let root = if kappa != 0.0 { x0 / kappa } else { f64::NAN };
-        if root > 0.0 && root < len {
-            acc.piece(self, &ctx, 0.0, root, root);
-            acc.piece(self, &ctx, root, len, root);
-        } else {
-            acc.piece(self, &ctx, 0.0, len, root);
-        }
-        (
-            LineIntegrals {
-                ix: acc.ix,
-                iy: y * acc.iy,
-                kx: acc.kx,
-                ky: y * acc.ky,
-                w: acc.w,
-            },
-            acc.mu,
-        )
-    }
-}
-
-/// Segment data for the quadrature.
-struct Ctx {
-    x0: f64,
-    y: f64,
-    kappa: f64,
-    sigma0: f64,
-}
-
-#[derive(Default)]
-struct Acc {
-    ix: f64,
-    iy: f64,
-    kx: f64,
-    ky: f64,
-    w: f64,
-    mu: f64,
-}
-
-impl Acc {
-    /// Integrates over [a, b] (b > a) on one side of the sign change at `root` (NaN or
-    /// outside [a, b] when there is none in the segment).
-    fn piece(&mut self, e: &EhlLine, c: &Ctx, a: f64, b: f64, root: f64) {
-        let len = b - a;
-        if !(len > 0.0) {
-            return;
-        }
-        let (da, db) = ((a - root).abs(), (b - root).abs());
-        let (near, far) = if da <= db { (da, db) } else { (db, da) };
-        if !(near < 0.25 * len) {
-            // Root far away (or none): the integrand is smooth on [a, b] (its branch point
-            // at least a quarter length from it: Bernstein ellipse rho >= 2.6; the branch
-            // point is weak, |x|^1.036).
-            let h = 0.5 * len;
-            for i in 0..5 {
-                for sgn in [-1.0, 1.0] {
-                    let s = a + h * (1.0 + sgn * GL_X[i]);
-                    self.node(e, c, s, h * GL_W[i], 0.0);
-                }
-            }
-            return;
-        }
-        let dir = if a + b > 2.0 * root { 1.0 } else { -1.0 };
-        if c.y == 0.0 {
-            // In the distance d from the root the integrand is d^b3 times a smooth
-            // function: Gauss-Jacobi with that weight on [0, far/2] (minus [0, near] when
-            // the root lies outside), Gauss-Legendre on [far/2, far] (rho = 5.8).
-            let mid = 0.5 * far;
-            self.jacobi(e, c, root, dir, mid, 1.0);
-            if near > 0.0 {
-                self.jacobi(e, c, root, dir, near, -1.0);
-            }
-            let h = 0.25 * far;
-            for i in 0..5 {
-                for sgn in [-1.0, 1.0] {
-                    let s = root + dir * (mid + h * (1.0 + sgn * GL_X[i]));
-                    self.node(e, c, s, h * GL_W[i], 0.0);
-                }
-            }
-            return;
-        }
-        // y != 0 (axial sliding): r^b3 does not vanish at the root; d = far t^3 with t in
-        // [t0, 1] clusters the nodes there (relative accuracy ~1e-6 when |y| is small
-        // against the sliding along the segment, docs/friction.md).
-        let t0 = (near / far).cbrt();
-        let (tm, th) = (0.5 * (1.0 + t0), 0.5 * (1.0 - t0));
-        for i in 0..5 {
-            for sgn in [-1.0, 1.0] {
-                let t = tm + sgn * th * GL_X[i];
-                let t2 = t * t;
-                let s = root + dir * far * t2 * t;
-                self.node(e, c, s, th * GL_W[i] * 3.0 * far * t2, 0.0);
-            }
-        }
-    }
-
-    /// `sign * int_0^dmax` over the distance d from the root along `dir`, by the
-    /// 10-point Gauss-Jacobi rule for the weight d^b3.
-    fn jacobi(&mut self, e: &EhlLine, c: &Ctx, root: f64, dir: f64, dmax: f64, sign: f64) {
-        let scale = sign * dmax.powf(1.0 + XU_B[2]);
-        for i in 0..10 {
-            let d = dmax * GJ_X[i];
-            self.node(e, c, root + dir * d, scale * GJ_W[i], d);
-        }
-    }
-
-    /// Adds the node s with weight wq; `d > 0`: the weight includes d^b3 (Gauss-Jacobi),
-    /// so mu / d^b3 is used; `d = 0`: plain weight, mu itself.
-    #[inline]
-    fn node(&mut self, e: &EhlLine, c: &Ctx, s: f64, wq: f64, d: f64) {
-        let x = c.x0 - c.kappa * s;
-        let r = (x * x + c.y * c.y).sqrt();
-        if !(r > 0.0) {
-            return;
-        }
-        let mu = e.mu_over_power(
-            c.sigma0 - e.sin_beta_b * s,
-            r,
-            if d > 0.0 { d } else { 1.0 },
-        );
-        let wm = wq * mu;
-        let f = wm / r;
-        self.ix += f * x;
-        self.iy += f;
-        self.kx += f * x * s;
-        self.ky += f * s;
-        self.w += wm * r;
-        self.mu += wm;
+        quadrature::segment(self, x0, y, kappa, len, sigma0)
     }
 }
