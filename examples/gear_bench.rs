@@ -14,6 +14,19 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Median seconds per call of `f(r)` (r = 0, 1, ...) over `rounds` rounds of `reps` calls.
+fn time_per_call(rounds: usize, reps: usize, mut f: impl FnMut(usize)) -> f64 {
+    let mut samples = Vec::with_capacity(rounds);
+    for _ in 0..rounds {
+        let t0 = Instant::now();
+        for r in 0..reps {
+            f(r);
+        }
+        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
+    }
+    median(samples)
+}
+
 fn main() {
     // `gear_bench count LAW WHAT N`: exactly N evaluations (WHAT = rhs, rhs_moving or
     // jacobian) for instruction counting (valgrind --tool=callgrind), no timing.
@@ -70,19 +83,14 @@ fn bench(params: Params) {
         .collect();
     let mut f = SVector::<f64, NY>::zeros();
     let reps = 2000;
-    let mut samples = Vec::new();
-    for _ in 0..200 {
-        let t0 = Instant::now();
-        for r in 0..reps {
-            let y = &states[r % states.len()];
-            model.rhs(0.0, black_box(y), &mut f).expect("rhs");
-            black_box(&f);
-        }
-        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
-    }
+    let per_call = time_per_call(200, reps, |r| {
+        let y = &states[r % states.len()];
+        model.rhs(0.0, black_box(y), &mut f).expect("rhs");
+        black_box(&f);
+    });
     println!(
         "rhs: median {:.1} ns per evaluation (200 x {reps} reps)",
-        median(samples) * 1e9
+        per_call * 1e9
     );
     // The same states with axial vibration (u1z' = -u2z' = 0.05 m/s): sliding along the
     // lines, y != 0, which law 4 integrates with its axial-sliding rule.
@@ -95,49 +103,34 @@ fn bench(params: Params) {
             y
         })
         .collect();
-    let mut samples = Vec::new();
-    for _ in 0..200 {
-        let t0 = Instant::now();
-        for r in 0..reps {
-            let y = &moving[r % moving.len()];
-            model.rhs(0.0, black_box(y), &mut f).expect("rhs");
-            black_box(&f);
-        }
-        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
-    }
+    let per_call = time_per_call(200, reps, |r| {
+        let y = &moving[r % moving.len()];
+        model.rhs(0.0, black_box(y), &mut f).expect("rhs");
+        black_box(&f);
+    });
     println!(
         "rhs with axial sliding: median {:.1} ns per evaluation (200 x {reps} reps)",
-        median(samples) * 1e9
+        per_call * 1e9
     );
     let mut jac = SMatrix::<f64, NY, NY>::zeros();
     let reps = 200;
-    let mut samples = Vec::new();
-    for _ in 0..100 {
-        let t0 = Instant::now();
-        for r in 0..reps {
-            let y = &states[r % states.len()];
-            assert!(model.jacobian(0.0, black_box(y), &mut jac));
-            black_box(&jac);
-        }
-        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
-    }
+    let per_call = time_per_call(100, reps, |r| {
+        let y = &states[r % states.len()];
+        assert!(model.jacobian(0.0, black_box(y), &mut jac));
+        black_box(&jac);
+    });
     println!(
         "jacobian: median {:.2} us per evaluation (100 x {reps} reps)",
-        median(samples) * 1e6
+        per_call * 1e6
     );
     let reps = 2000;
-    let mut samples = Vec::new();
-    for _ in 0..50 {
-        let t0 = Instant::now();
-        for r in 0..reps {
-            let y = &states[r % states.len()];
-            black_box(model.consistent_lambda(0.0, black_box(y)).expect("lambda"));
-        }
-        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
-    }
+    let per_call = time_per_call(50, reps, |r| {
+        let y = &states[r % states.len()];
+        black_box(model.consistent_lambda(0.0, black_box(y)).expect("lambda"));
+    });
     println!(
         "consistent lambda: median {:.1} ns per evaluation (50 x {reps} reps)",
-        median(samples) * 1e9
+        per_call * 1e9
     );
 }
 

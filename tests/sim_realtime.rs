@@ -10,10 +10,15 @@ use std::f64::consts::PI;
 const W0: f64 = 314.159;
 
 fn sim(rtol: f64, h_fixed: f64) -> Simulation {
+    sim_from(0.0, rtol, h_fixed)
+}
+
+/// The default pair from rest at `t0` in real-time mode `h_fixed`.
+fn sim_from(t0: f64, rtol: f64, h_fixed: f64) -> Simulation {
     let mut s = Simulation::new(
         Params::default(),
         SolverSettings { rtol, h_max: 1e-4 },
-        0.0,
+        t0,
         W0,
         0.0,
     )
@@ -103,18 +108,7 @@ fn shorter_do_steps_renew_the_jacobian_on_a_fixed_schedule() {
     // From t = 100 s (the master's t + H differs from H by ulps of t, 1.4e-9 of H): the
     // same schedule, the LU pair kept across the round-off.
     let t0 = 100.0;
-    let mut s = Simulation::new(
-        Params::default(),
-        SolverSettings {
-            rtol: 1e-6,
-            h_max: 1e-4,
-        },
-        t0,
-        W0,
-        0.0,
-    )
-    .unwrap();
-    s.set_h_fixed(1e-5).unwrap();
+    let mut s = sim_from(t0, 1e-6, 1e-5);
     for k in 0..200u64 {
         let t = t0 + k as f64 * h;
         s.set_input(Input::Omega1, omega1(t)).unwrap();
@@ -219,18 +213,7 @@ fn internal_step_divides_the_communication_step() {
         assert_eq!(s.stepper_time(), t + 3e-5);
     }
     let t0 = 100.0;
-    let mut s = Simulation::new(
-        Params::default(),
-        SolverSettings {
-            rtol: 1e-6,
-            h_max: 1e-4,
-        },
-        t0,
-        W0,
-        0.0,
-    )
-    .unwrap();
-    s.set_h_fixed(1e-5).unwrap();
+    let mut s = sim_from(t0, 1e-6, 1e-5);
     for k in 0..200 {
         let t = t0 + k as f64 * 1e-5;
         let r = s.do_step(t, 1e-5).unwrap();
