@@ -156,7 +156,14 @@ impl<T> Parameter<T> {
     /// # Errors
     /// The rule, with the unit and the default as a hint.
     pub fn check(&self, p: &T) -> Result<(), ParamError> {
-        let x = (self.get)(p);
+        self.check_value((self.get)(p))
+    }
+
+    /// Checks the model's rule on a value `x` of this parameter (e.g. a new tunable value).
+    ///
+    /// # Errors
+    /// The rule, with the unit and the default as a hint.
+    pub fn check_value(&self, x: f64) -> Result<(), ParamError> {
         if self.rule.holds(x) {
             Ok(())
         } else {

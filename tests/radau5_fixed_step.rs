@@ -112,3 +112,34 @@ fn unconverged_fixed_step_is_refused() {
         Err(Error::InvalidOption { .. })
     ));
 }
+
+/// y' = t^4 (a pure quadrature): the three Radau IIA nodes integrate polynomials of degree
+/// <= 2s - 2 = 4 exactly (Hairer & Wanner, Solving ODEs II, 1996, Section IV.5), so the fixed
+/// step ends on y(1) = 1/5 to round-off - only if every stage is evaluated at its own time
+/// t + c_k h (the oscillator above does not see the stage times of its t-dependent part).
+struct QuarticQuadrature;
+
+impl Problem<1> for QuarticQuadrature {
+    fn rhs(
+        &mut self,
+        t: f64,
+        _y: &SVector<f64, 1>,
+        f: &mut SVector<f64, 1>,
+    ) -> Result<(), RhsError> {
+        f[0] = t.powi(4);
+        Ok(())
+    }
+}
+
+#[test]
+fn fixed_steps_evaluate_each_stage_at_its_time() {
+    let mut p = QuarticQuadrature;
+    let mut r = Radau5::new(&mut p, Options::default(), 0.0, SVector::zeros()).unwrap();
+    let n = 4;
+    let h = 1.0 / f64::from(n);
+    r.fixed_prepare(&mut p, h).unwrap();
+    for k in 1..=n {
+        r.fixed_step(&mut p, h, f64::from(k) * h, 3).unwrap();
+    }
+    assert!((r.y()[0] - 0.2).abs() <= 1e-14, "y(1) = {:e}", r.y()[0]);
+}

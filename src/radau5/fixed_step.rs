@@ -22,7 +22,7 @@
 
 use nalgebra::SVector;
 
-use super::step_phases::{accumulate, newton_increment};
+use super::step_phases::{accumulate, newton_increment, stage_rhs};
 use super::stepper::check_finite;
 use super::tableau::TI;
 use super::{Error, Problem, Radau5};
@@ -202,16 +202,15 @@ impl<const N: usize> Radau5<N> {
             message: e.message,
         };
         for _ in 0..iterations {
-            for (c, z, a) in [
-                (tab.c1, &z1, &mut a1),
-                (tab.c2, &z2, &mut a2),
-                (1.0, &z3, &mut a3),
-            ] {
-                cont.copy_from(&s.y);
-                cont += z;
-                let tc = if c == 1.0 { t_end } else { t + c * h };
-                problem.rhs(tc, &cont, a).map_err(rhs_err)?;
-            }
+            stage_rhs(
+                problem,
+                &s.y,
+                [t + tab.c1 * h, t + tab.c2 * h, t_end],
+                [&z1, &z2, &z3],
+                &mut cont,
+                [&mut a1, &mut a2, &mut a3],
+            )
+            .map_err(rhs_err)?;
             s.stats.nfcn += 3;
             let dyno = newton_increment(
                 s,

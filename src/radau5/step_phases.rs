@@ -12,7 +12,7 @@ use super::state::{Action, State};
 use super::step_size::{gustafsson_quotient, step_quotient};
 use super::stepper::{eval, Failure, MAX_RHS_FAILURES, MAX_SINGULAR, MAX_UNEXPECTED};
 use super::tableau::{T, TI};
-use super::{Error, Problem, Radau5};
+use super::{Error, Problem, Radau5, RhsError};
 
 /// The attempt under way: its step size and whether it ends on the stop time.
 struct Attempt {
@@ -325,19 +325,14 @@ impl<const N: usize> Radau5<N> {
             // or inf in any F_k reaches every transformed component it enters (T^-1 has no
             // zero entry), survives the solves (0*inf is NaN too) and makes DYNO, a sum of
             // squares over all components, non-finite; the test on DYNO below catches it.
-            cont.copy_from(&s.y);
-            cont += &*z1;
-            if let Err(e) = problem.rhs(t + tab.c1 * h, &cont, &mut a1) {
-                break Newton::Failed(Failure::Rhs(e));
-            }
-            cont.copy_from(&s.y);
-            cont += &*z2;
-            if let Err(e) = problem.rhs(t + tab.c2 * h, &cont, &mut a2) {
-                break Newton::Failed(Failure::Rhs(e));
-            }
-            cont.copy_from(&s.y);
-            cont += &*z3;
-            if let Err(e) = problem.rhs(xph, &cont, &mut a3) {
+            if let Err(e) = stage_rhs(
+                problem,
+                &s.y,
+                [t + tab.c1 * h, t + tab.c2 * h, xph],
+                [&*z1, &*z2, &*z3],
+                &mut cont,
+                [&mut a1, &mut a2, &mut a3],
+            ) {
                 break Newton::Failed(Failure::Rhs(e));
             }
             s.stats.nfcn += 3;
@@ -690,6 +685,25 @@ pub(super) fn newton_increment<const N: usize>(
         dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
     }
     (dyno / (3 * N) as f64).sqrt()
+}
+
+/// `F_k = f(t_k, y + Z_k)` at the three collocation stages (radau5.f's three FCN calls per
+/// Newton iteration, `cont` the work vector); stops at the first failing evaluation. Shared
+/// by the adaptive and the fixed step.
+pub(super) fn stage_rhs<P: Problem<N>, const N: usize>(
+    problem: &mut P,
+    y: &SVector<f64, N>,
+    times: [f64; 3],
+    z: [&SVector<f64, N>; 3],
+    cont: &mut SVector<f64, N>,
+    f: [&mut SVector<f64, N>; 3],
+) -> Result<(), RhsError> {
+    for ((tk, zk), fk) in times.into_iter().zip(z).zip(f) {
+        cont.copy_from(y);
+        *cont += zk;
+        problem.rhs(tk, cont, fk)?;
+    }
+    Ok(())
 }
 
 /// F += Z, and Z = T F: the new stage values back from the eigenbasis.

@@ -90,20 +90,12 @@ impl Params {
 
 /// The rule of the tunable mu (`param_table`), for a new value.
 pub(crate) fn check_mu(mu: f64) -> Result<(), ParamError> {
-    let p = Params {
-        mu,
-        ..Params::default()
-    };
-    ROTOR_PARAMETERS[param_table::MU].check(&p)
+    ROTOR_PARAMETERS[param_table::MU].check_value(mu)
 }
 
 /// The rule of the tunable d_phi (`param_table`), for a new value.
 pub(crate) fn check_d_phi(d: f64) -> Result<(), ParamError> {
-    let p = Params {
-        d_phi: d,
-        ..Params::default()
-    };
-    ROTOR_PARAMETERS[param_table::D_PHI].check(&p)
+    ROTOR_PARAMETERS[param_table::D_PHI].check_value(d)
 }
 
 /// Held inputs: `value(t) = value + der (t - t_ref)` (der from
