@@ -149,6 +149,7 @@ impl<const N: usize> Radau5<N> {
         let tab = self.tab;
         let pat = &self.pattern;
         let blk = &self.blocks;
+        let el = &self.elim;
         let s = &mut self.st;
         // Error weights (SCAL), index-2/3 components scaled by h as in the adaptive step.
         let mut scal = SVector::<f64, N>::zeros();
@@ -215,6 +216,7 @@ impl<const N: usize> Radau5<N> {
             let dyno = newton_increment(
                 s,
                 blk,
+                el,
                 pat,
                 (fac1, alphn, betan),
                 [&a1, &a2, &a3],

@@ -164,64 +164,88 @@ impl<const N: usize> Blocks<N> {
         }
     }
 
+    /// Copies the blocks of J that the reduced solves read into `el` (with every
+    /// decomposition: J and the LU pair change together).
+    pub(super) fn pack(&self, jac: &SMatrix<f64, N, N>, el: &mut Elimination<N>) {
+        let (nd, nk) = (self.nd, self.nk);
+        for (n, &k) in self.kin_idx[..nk].iter().enumerate() {
+            for (r, &i) in self.dyn_idx[..nd].iter().enumerate() {
+                el.jdk[(r, n)] = jac[(i, k)];
+            }
+        }
+        let cols = self.dyn_idx[..nd].iter().chain(&self.kin_idx[..nk]);
+        for (c, &j) in cols.enumerate() {
+            for (m, &i) in self.quad_idx[..self.nq].iter().enumerate() {
+                el.jq[(m, c)] = jac[(i, j)];
+            }
+        }
+    }
+
     /// Solves `E1 x = b` in place (`E1 = fac1 M - J` factorised by [`Radau5::decompose`]).
     /// Inlined so that the default (full) path is the plain `SOL` call it always was.
     #[inline(always)]
     pub(super) fn solve1(
         &self,
         lu: &RealLu<N>,
-        jac: &SMatrix<f64, N, N>,
+        el: &Elimination<N>,
         fac1: f64,
         b: &mut SVector<f64, N>,
     ) {
         if self.full() {
             lu.solve(b);
         } else {
-            self.solve1_reduced(lu, jac, fac1, b);
+            self.solve1_reduced(lu, el, fac1, b);
         }
     }
 
-    /// [`Blocks::solve1`] with eliminated components.
+    /// [`Blocks::solve1`] with eliminated components. Every sum runs over the same terms
+    /// in the same order as the element-wise formulas of [`Blocks`]; the loops read
+    /// the packed blocks column by column (contiguous, so they vectorise).
     #[inline(never)]
     pub(super) fn solve1_reduced(
         &self,
         lu: &RealLu<N>,
-        jac: &SMatrix<f64, N, N>,
+        el: &Elimination<N>,
         fac1: f64,
         b: &mut SVector<f64, N>,
     ) {
-        let (nd, di) = (self.nd, &self.dyn_idx);
-        let ki = &self.kin_idx[..self.nk];
-        // b_k / fac1 once per K component (not per row: divisions are slow).
-        let mut q = [0.0; N];
-        for (n, &k) in ki.iter().enumerate() {
-            q[n] = b[k] / fac1;
-        }
+        let (nd, nk, nq) = (self.nd, self.nk, self.nq);
+        let (di, ki) = (&self.dyn_idx[..nd], &self.kin_idx[..nk]);
+        // c = b_d + J_dk (b_k / fac1) (divisions once per K component: they are slow)
         let mut c = SVector::<f64, N>::zeros();
+        let cs = &mut c.as_mut_slice()[..nd];
         for r in 0..nd {
-            let i = di[r];
-            let mut sum = b[i];
-            for (n, &k) in ki.iter().enumerate() {
-                sum += jac[(i, k)] * q[n];
-            }
-            c[r] = sum;
+            cs[r] = b[di[r]];
+        }
+        for n in 0..nk {
+            let q = b[ki[n]] / fac1;
+            axpy(cs, el.jdk_col(n, nd), q);
         }
         lu.solve_leading(nd, &mut c);
         for r in 0..nd {
             b[di[r]] = c[r];
         }
-        for (n, &k) in ki.iter().enumerate() {
+        for n in 0..nk {
+            let k = ki[n];
             b[k] = (b[k] + c[self.kin_partner[n]]) / fac1;
         }
-        for &i in &self.quad_idx[..self.nq] {
-            let mut sum = b[i];
+        // x_q = (b_q + J_qd x_d + J_qk x_k) / fac1
+        if nq > 0 {
+            let qi = &self.quad_idx[..nq];
+            let mut acc = [0.0; N];
+            let sq = &mut acc[..nq];
+            for m in 0..nq {
+                sq[m] = b[qi[m]];
+            }
             for r in 0..nd {
-                sum += jac[(i, di[r])] * c[r];
+                axpy(sq, el.jq_col(r, nq), c[r]);
             }
-            for &k in ki {
-                sum += jac[(i, k)] * b[k];
+            for n in 0..nk {
+                axpy(sq, el.jq_col(nd + n, nq), b[ki[n]]);
             }
-            b[i] = sum / fac1;
+            for m in 0..nq {
+                b[qi[m]] = sq[m] / fac1;
+            }
         }
     }
 
@@ -230,7 +254,7 @@ impl<const N: usize> Blocks<N> {
     pub(super) fn solve2(
         &self,
         lu: &ComplexLu<N>,
-        jac: &SMatrix<f64, N, N>,
+        el: &Elimination<N>,
         ab: (f64, f64),
         br: &mut SVector<f64, N>,
         bi: &mut SVector<f64, N>,
@@ -238,22 +262,23 @@ impl<const N: usize> Blocks<N> {
         if self.full() {
             lu.solve(br, bi);
         } else {
-            self.solve2_reduced(lu, jac, ab, br, bi);
+            self.solve2_reduced(lu, el, ab, br, bi);
         }
     }
 
-    /// [`Blocks::solve2`] with eliminated components.
+    /// [`Blocks::solve2`] with eliminated components (same order of operations as the
+    /// element-wise formulas, packed blocks read column by column).
     #[inline(never)]
     pub(super) fn solve2_reduced(
         &self,
         lu: &ComplexLu<N>,
-        jac: &SMatrix<f64, N, N>,
+        el: &Elimination<N>,
         (alphn, betan): (f64, f64),
         br: &mut SVector<f64, N>,
         bi: &mut SVector<f64, N>,
     ) {
-        let (nd, di) = (self.nd, &self.dyn_idx);
-        let ki = &self.kin_idx[..self.nk];
+        let (nd, nk, nq) = (self.nd, self.nk, self.nq);
+        let (di, ki) = (&self.dyn_idx[..nd], &self.kin_idx[..nk]);
         let den = alphn * alphn + betan * betan;
         // 1/c2 = (ir + i ii).
         let (ir, ii) = (alphn / den, -betan / den);
@@ -266,16 +291,15 @@ impl<const N: usize> Blocks<N> {
         }
         let mut cr = SVector::<f64, N>::zeros();
         let mut ci = SVector::<f64, N>::zeros();
-        for r in 0..nd {
-            let i = di[r];
-            let (mut sr, mut si) = (br[i], bi[i]);
-            for (n, &k) in ki.iter().enumerate() {
-                let jv = jac[(i, k)];
-                sr += jv * qr[n];
-                si += jv * qi[n];
+        {
+            let (sr, si) = (&mut cr.as_mut_slice()[..nd], &mut ci.as_mut_slice()[..nd]);
+            for r in 0..nd {
+                sr[r] = br[di[r]];
+                si[r] = bi[di[r]];
             }
-            cr[r] = sr;
-            ci[r] = si;
+            for n in 0..nk {
+                axpy2(sr, si, el.jdk_col(n, nd), qr[n], qi[n]);
+            }
         }
         lu.solve_leading(nd, &mut cr, &mut ci);
         for r in 0..nd {
@@ -288,21 +312,76 @@ impl<const N: usize> Blocks<N> {
             br[k] = qr[n] + (xr * ir - xi * ii);
             bi[k] = qi[n] + (xi * ir + xr * ii);
         }
-        for &i in &self.quad_idx[..self.nq] {
-            let (mut sr, mut si) = (br[i], bi[i]);
+        if nq > 0 {
+            let qidx = &self.quad_idx[..nq];
+            let (mut ar, mut ai) = ([0.0; N], [0.0; N]);
+            let (sr, si) = (&mut ar[..nq], &mut ai[..nq]);
+            for m in 0..nq {
+                sr[m] = br[qidx[m]];
+                si[m] = bi[qidx[m]];
+            }
             for r in 0..nd {
-                let jv = jac[(i, di[r])];
-                sr += jv * cr[r];
-                si += jv * ci[r];
+                axpy2(sr, si, el.jq_col(r, nq), cr[r], ci[r]);
             }
-            for &k in ki {
-                let jv = jac[(i, k)];
-                sr += jv * br[k];
-                si += jv * bi[k];
+            for (n, &k) in ki.iter().enumerate() {
+                axpy2(sr, si, el.jq_col(nd + n, nq), br[k], bi[k]);
             }
-            br[i] = (sr * alphn + si * betan) / den;
-            bi[i] = (si * alphn - sr * betan) / den;
+            for m in 0..nq {
+                let q = qidx[m];
+                br[q] = (sr[m] * alphn + si[m] * betan) / den;
+                bi[q] = (si[m] * alphn - sr[m] * betan) / den;
+            }
         }
+    }
+}
+
+/// `acc += col x` (equal lengths; a plain loop the compiler vectorises).
+#[inline(always)]
+fn axpy(acc: &mut [f64], col: &[f64], x: f64) {
+    let col = &col[..acc.len()];
+    for m in 0..acc.len() {
+        acc[m] += col[m] * x;
+    }
+}
+
+/// `(ar, ai) += col (xr, xi)` for a real column and a complex factor.
+#[inline(always)]
+fn axpy2(ar: &mut [f64], ai: &mut [f64], col: &[f64], xr: f64, xi: f64) {
+    let n = ar.len();
+    let (ai, col) = (&mut ai[..n], &col[..n]);
+    for m in 0..n {
+        ar[m] += col[m] * xr;
+        ai[m] += col[m] * xi;
+    }
+}
+
+/// The blocks of J that the reduced solves of [`Blocks`] read, packed by
+/// [`Blocks::pack`] at every decomposition (so they always belong to the LU pair):
+/// `jdk` column n holds `J[dyn_idx[r], kin_idx[n]]` in rows r < nd; `jq` column c holds
+/// `J[quad_idx[m], j_c]` in rows m < nq for the columns `j_c` = dyn_idx, then kin_idx.
+/// Column-major storage makes every column a contiguous slice.
+#[derive(Debug, Clone)]
+pub(crate) struct Elimination<const N: usize> {
+    jdk: SMatrix<f64, N, N>,
+    jq: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> Elimination<N> {
+    pub(crate) fn zeros() -> Self {
+        Elimination {
+            jdk: SMatrix::zeros(),
+            jq: SMatrix::zeros(),
+        }
+    }
+
+    #[inline(always)]
+    fn jdk_col(&self, n: usize, nd: usize) -> &[f64] {
+        &self.jdk.as_slice()[n * N..n * N + nd]
+    }
+
+    #[inline(always)]
+    fn jq_col(&self, c: usize, nq: usize) -> &[f64] {
+        &self.jq.as_slice()[c * N..c * N + nq]
     }
 }
 
@@ -390,16 +469,17 @@ mod tests {
         r.blocks
             .decompose(&mut r.st, fac1, (alphn, betan))
             .expect("regular");
+        r.blocks.pack(&r.st.jac, &mut r.elim);
         let m = r.st.mass;
         let b = SVector::<f64, 6>::from_fn(|i, _| 1.0 + i as f64 * 0.7);
         let bi = SVector::<f64, 6>::from_fn(|i, _| (i as f64 - 2.0) * 0.3);
         let mut x = b;
-        r.blocks.solve1(&r.st.lu1, &r.st.jac, fac1, &mut x);
+        r.blocks.solve1(&r.st.lu1, &r.elim, fac1, &mut x);
         let res = (m * fac1 - jac) * x - b;
         assert!(res.amax() < 1e-13 * b.amax(), "real residual {res}");
         let (mut xr, mut xi) = (b, bi);
         r.blocks
-            .solve2(&r.st.lu2, &r.st.jac, (alphn, betan), &mut xr, &mut xi);
+            .solve2(&r.st.lu2, &r.elim, (alphn, betan), &mut xr, &mut xi);
         // (alphn + i betan) M - J applied to xr + i xi.
         let er = m * alphn - jac;
         let ei = m * betan;

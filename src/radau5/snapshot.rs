@@ -39,6 +39,10 @@ impl<const N: usize> Radau5<N> {
     pub fn restore(&mut self, s: &Snapshot<N>) {
         self.st = s.state.clone();
         self.pattern = super::linear_systems::MassPattern::new(&self.st.mass);
+        // J and the LU pair travel together in the state; the packed blocks follow J.
+        if !self.blocks.full() {
+            self.blocks.pack(&self.st.jac, &mut self.elim);
+        }
     }
 }
 

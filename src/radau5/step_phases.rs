@@ -7,7 +7,7 @@
 
 use nalgebra::SVector;
 
-use super::linear_systems::{Blocks, MassPattern};
+use super::linear_systems::{Blocks, Elimination, MassPattern};
 use super::state::{Action, State};
 use super::step_size::{gustafsson_quotient, step_quotient};
 use super::stepper::{eval, Failure, MAX_RHS_FAILURES, MAX_SINGULAR, MAX_UNEXPECTED};
@@ -294,6 +294,7 @@ impl<const N: usize> Radau5<N> {
             tab,
             pattern: pat,
             blocks: blk,
+            elim: el,
         } = self;
         let p = &s.params;
         let nit = p.nit;
@@ -339,6 +340,7 @@ impl<const N: usize> Radau5<N> {
             let dyno = newton_increment(
                 s,
                 blk,
+                el,
                 pat,
                 (fac1, alphn, betan),
                 [&a1, &a2, &a3],
@@ -420,6 +422,7 @@ impl<const N: usize> Radau5<N> {
             tab,
             pattern: pat,
             blocks: blk,
+            elim: el,
         } = self;
         let [z1, z2, z3] = &stages.z;
         let fac1 = tab.gamma / h;
@@ -447,7 +450,7 @@ impl<const N: usize> Radau5<N> {
                 cont[i] = fm[i] + s.f0[i];
             }
         }
-        blk.solve1(&s.lu1, &s.jac, fac1, &mut cont);
+        blk.solve1(&s.lu1, el, fac1, &mut cont);
         let mut err = Self::scaled_rms(&cont, &s.scal);
         if (err.is_nan() || err >= 1.0) && (s.first || s.reject) {
             let mut y1 = s.y;
@@ -459,7 +462,7 @@ impl<const N: usize> Radau5<N> {
             for i in 0..N {
                 cont[i] = f1[i] + fm[i];
             }
-            blk.solve1(&s.lu1, &s.jac, fac1, &mut cont);
+            blk.solve1(&s.lu1, el, fac1, &mut cont);
             err = Self::scaled_rms(&cont, &s.scal);
         }
         if err.is_nan() {
@@ -639,6 +642,7 @@ fn next_matrices<const N: usize>(s: &State<N>) -> Action {
 pub(super) fn newton_increment<const N: usize>(
     s: &State<N>,
     blk: &Blocks<N>,
+    el: &Elimination<N>,
     pat: &MassPattern<N>,
     (fac1, alphn, betan): (f64, f64, f64),
     [a1, a2, a3]: [&SVector<f64, N>; 3],
@@ -674,8 +678,8 @@ pub(super) fn newton_increment<const N: usize>(
             z3[i] = z3[i] + s3 * alphn + s2 * betan;
         }
     }
-    blk.solve1(&s.lu1, &s.jac, fac1, z1);
-    blk.solve2(&s.lu2, &s.jac, (alphn, betan), z2, z3);
+    blk.solve1(&s.lu1, el, fac1, z1);
+    blk.solve2(&s.lu2, el, (alphn, betan), z2, z3);
     let mut dyno = 0.0;
     for i in 0..N {
         let denom = scal[i];

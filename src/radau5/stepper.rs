@@ -8,7 +8,7 @@
 
 use nalgebra::{Complex, SVector};
 
-use super::linear_systems::{Blocks, MassPattern};
+use super::linear_systems::{Blocks, Elimination, MassPattern};
 use super::options::{transform_tolerances, Params};
 use super::state::State;
 use super::tableau::Tableau;
@@ -43,6 +43,8 @@ pub struct Radau5<const N: usize> {
     /// Split into factorised and quadrature components (from `Options::quadrature`; a
     /// property of the problem, not part of the state: a restored snapshot keeps it).
     pub(crate) blocks: Blocks<N>,
+    /// The blocks of J the reduced solves read, packed with every decomposition.
+    pub(crate) elim: Elimination<N>,
 }
 
 /// Why an attempt failed "unexpectedly" (the Fortran's label 78).
@@ -133,6 +135,7 @@ impl<const N: usize> Radau5<N> {
             tab,
             pattern,
             blocks,
+            elim: Elimination::zeros(),
         })
     }
 
@@ -441,6 +444,7 @@ impl<const N: usize> Radau5<N> {
         let betan = self.tab.beta / h;
         let blk = &self.blocks;
         if !blk.full() {
+            blk.pack(&s.jac, &mut self.elim);
             if blk.decompose(s, fac1, (alphn, betan)).is_err() {
                 s.lu_valid = false;
                 return Err(());
