@@ -10,6 +10,7 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::PI;
 
 mod friction;
+mod memo;
 
 /// Start state for [`GearedRotor::initialize_with`] (`model.md` §7).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -42,6 +43,8 @@ pub struct GearedRotor {
     iso: IsoMean,
     /// Lubricant and materials of friction law 4.
     lub: Lubricant,
+    /// Mesh and friction sums of the last kinematic state (a pure cache, see `memo`).
+    memo: memo::KinematicMemo,
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -106,6 +109,7 @@ impl GearedRotor {
             wc: 2.0 * PI * params.omega1_filter_hz,
             iso,
             lub: fp.lubricant(),
+            memo: memo::KinematicMemo::default(),
         })
     }
 
@@ -175,9 +179,11 @@ impl GearedRotor {
     /// # Errors
     /// Centre distance too small or non-finite displacements.
     pub fn mesh(&self, t: f64, y: &SVector<f64, NY>) -> Result<Mesh, ModelError> {
-        let u1 = Vector3::new(y[0], y[1], y[2]);
-        let u2 = Vector3::new(y[3], y[4], y[5]);
-        self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))
+        self.memo.mesh(y, || {
+            let u1 = Vector3::new(y[0], y[1], y[2]);
+            let u2 = Vector3::new(y[3], y[4], y[5]);
+            self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))
+        })
     }
 
     /// Friction sums (per unit line pressure `|lambda| / l` times the law's scalar

@@ -55,7 +55,17 @@ impl GearedRotor {
                 (LineLaw::Ehl(e), 1.0)
             }
         };
-        let s = g.friction_sums_line(m, phi1, psi0, &k, &line);
+        // m is the mesh of y, so the sums of laws 1-3 are a function of the memo's key;
+        // law 4's depend on lambda (line load).
+        let s = match self.params.friction_law {
+            FrictionLaw::LocalEhl => g.friction_sums_line(m, phi1, psi0, &k, &line),
+            law => {
+                let variant = u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb);
+                self.memo.sums(y, variant, || {
+                    g.friction_sums_line(m, phi1, psi0, &k, &line)
+                })
+            }
+        };
         if !(s.contact.length > 0.0) {
             return Err(ModelError::NoContact { t });
         }
