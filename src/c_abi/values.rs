@@ -22,7 +22,7 @@ pub unsafe extern "C" fn fmi2GetReal(
         call(c, func, |inst| {
             let vrs = slice(func, "vr", vr, nvr)?;
             let out = slice_mut(func, "value", value, nvr)?;
-            inst.get(func, VarType::Real, vrs, &mut |i, x| out[i] = x)?;
+            inst.get(func, VarType::Real, vrs, |i, x| out[i] = x)?;
             OK
         })
     }
@@ -44,7 +44,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
         call(c, func, |inst| {
             let vrs = slice(func, "vr", vr, nvr)?;
             let out = slice_mut(func, "value", value, nvr)?;
-            inst.get(func, VarType::Integer, vrs, &mut |i, x| {
+            inst.get(func, VarType::Integer, vrs, |i, x| {
                 out[i] = x as Fmi2Integer
             })?;
             OK
@@ -68,7 +68,7 @@ pub unsafe extern "C" fn fmi2GetBoolean(
         call(c, func, |inst| {
             let vrs = slice(func, "vr", vr, nvr)?;
             let out = slice_mut(func, "value", value, nvr)?;
-            inst.get(func, VarType::Boolean, vrs, &mut |i, x| {
+            inst.get(func, VarType::Boolean, vrs, |i, x| {
                 out[i] = if x != 0.0 { FMI2_TRUE } else { FMI2_FALSE }
             })?;
             OK

@@ -273,21 +273,20 @@ impl<M: Model> Instance<M> {
         func: &'static str,
         ty: VarType,
         vrs: &[u32],
-        out: &mut dyn FnMut(usize, f64),
+        mut out: impl FnMut(usize, f64),
     ) -> Result<(), FmuError<M::Error>> {
         self.guard(func, allowed::GET)?;
+        // One variable after the other, the error paths out of line (a master reads every
+        // output at every point: this loop is part of the cost of a communication step).
         for (i, &vr) in vrs.iter().enumerate() {
-            let var = lookup(func, ty, vr)?;
-            let x = self
-                .model
-                .get(var, self.phase, &self.experiment)
-                .map_err(|error| FmuError::Model { func, error })?;
-            let x = if var.causality == Causality::Output {
-                self.finite_output(func, var, x)?
-            } else {
-                x
+            let Some(var) = variables::lookup(ty, vr) else {
+                return Err(FmuError::UnknownValueReference { func, vr });
             };
-            out(i, x);
+            match self.model.get(var, self.phase, &self.experiment) {
+                Ok(x) if x.is_finite() || var.causality != Causality::Output => out(i, x),
+                Ok(x) => return self.finite_output(func, var, x).map(|_| ()),
+                Err(error) => return Err(FmuError::Model { func, error }),
+            }
         }
         Ok(())
     }
