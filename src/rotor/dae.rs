@@ -12,6 +12,8 @@ use std::f64::consts::PI;
 mod friction;
 mod memo;
 
+use friction::Asker;
+
 /// Start state for [`GearedRotor::initialize_with`] (`model.md` §7).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct InitialConditions {
@@ -179,7 +181,17 @@ impl GearedRotor {
     /// # Errors
     /// Centre distance too small or non-finite displacements.
     pub fn mesh(&self, t: f64, y: &SVector<f64, NY>) -> Result<Mesh, ModelError> {
-        self.memo.mesh(y, || {
+        self.memo.mesh(y, true, || {
+            let u1 = Vector3::new(y[0], y[1], y[2]);
+            let u2 = Vector3::new(y[3], y[4], y[5]);
+            self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))
+        })
+    }
+
+    /// [`GearedRotor::mesh`] for the integrator's f and Jacobian: reads the memo, does
+    /// not write it (see [`Asker::Integrator`]).
+    fn mesh_for_f(&self, t: f64, y: &SVector<f64, NY>) -> Result<Mesh, ModelError> {
+        self.memo.mesh(y, false, || {
             let u1 = Vector3::new(y[0], y[1], y[2]);
             let u2 = Vector3::new(y[3], y[4], y[5]);
             self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))
@@ -197,7 +209,7 @@ impl GearedRotor {
         y: &SVector<f64, NY>,
         m: &Mesh,
     ) -> Result<FrictionSums, ModelError> {
-        self.friction(t, y, m, y[idx::LAMBDA], false)
+        self.friction(t, y, m, y[idx::LAMBDA], Asker::Point)
             .map(|(s, _)| s)
     }
 
@@ -222,9 +234,9 @@ impl GearedRotor {
         f: &mut SVector<f64, NY>,
     ) -> Result<(), ModelError> {
         let g = &self.geom;
-        let m = self.mesh(t, y)?;
+        let m = self.mesh_for_f(t, y)?;
         let lam = y[idx::LAMBDA];
-        let (sums, mu) = self.friction(t, y, &m, lam, false)?;
+        let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
         let fr = sums.resultants(mu, lam);
         let grow = g.constraint_row(&m);
         let v = idx::V;
@@ -300,9 +312,9 @@ impl GearedRotor {
     ) -> Result<(), ModelError> {
         let g = &self.geom;
         let (v, lam_i) = (idx::V, idx::LAMBDA);
-        let m = self.mesh(t, y)?;
+        let m = self.mesh_for_f(t, y)?;
         let lam = y[lam_i];
-        let (sums, mu) = self.friction(t, y, &m, lam, false)?;
+        let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
         let fr = sums.resultants(mu, lam);
         let grow = g.constraint_row(&m);
         let (cb, rb1, rb2) = (g.cos_beta_b, g.rb1, g.rb2);
@@ -424,8 +436,8 @@ impl GearedRotor {
             let h = f64::EPSILON.sqrt() * scale;
             yp[j] = yj + h;
             let h = yp[j] - yj;
-            let mp = if j < 6 { self.mesh(t, &yp)? } else { m };
-            let (sp, mup) = self.friction(t, &yp, &mp, lam, false)?;
+            let mp = if j < 6 { self.mesh_for_f(t, &yp)? } else { m };
+            let (sp, mup) = self.friction(t, &yp, &mp, lam, Asker::Integrator)?;
             let frp = sp.resultants(mup, lam);
             let pert = [
                 frp.f1.x, frp.f1.y, frp.f1.z, frp.f2.x, frp.f2.y, frp.f2.z, -frp.m2.z,
@@ -639,7 +651,7 @@ impl GearedRotor {
     /// cannot be evaluated the contact quantities are NaN.
     pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
         let res = self.mesh(t, y).and_then(|m| {
-            self.friction(t, y, &m, y[idx::LAMBDA], true)
+            self.friction(t, y, &m, y[idx::LAMBDA], Asker::Outputs)
                 .map(|(s, mu)| (m, s, mu))
         });
         self.outputs_with(y, res)
@@ -650,7 +662,7 @@ impl GearedRotor {
     /// mesh and the friction sums once for both (they do not depend on lambda).
     pub fn outputs_consistent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
         let res = self.mesh(t, y).and_then(|m| {
-            self.friction(t, y, &m, y[idx::LAMBDA], true)
+            self.friction(t, y, &m, y[idx::LAMBDA], Asker::Outputs)
                 .map(|(s, mu)| (m, s, mu))
         });
         let mut z = *y;
@@ -664,7 +676,7 @@ impl GearedRotor {
         // Laws 3 and 4: the friction follows the new lambda.
         let res = match res {
             Ok((m, _, _)) if self.params.friction_law.load_dependent() => self
-                .friction(t, &z, &m, z[idx::LAMBDA], true)
+                .friction(t, &z, &m, z[idx::LAMBDA], Asker::Outputs)
                 .map(|(s, mu)| (m, s, mu)),
             r => r,
         };

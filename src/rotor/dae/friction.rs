@@ -7,24 +7,39 @@ use crate::gear::{EhlLine, Friction, FrictionLaw, FrictionSums, LineLaw, Mesh};
 use crate::rotor::{idx, ModelError, NY};
 use nalgebra::{SMatrix, SVector};
 
+/// Who asks for the friction of a state: decides what the memo keeps (`memo.rs`) and
+/// whether law 2's mean coefficient is integrated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Asker {
+    /// f and the Jacobian inside the integrator: many states, each once; the memo is read
+    /// but not written (writing would cost on every stage for nothing).
+    Integrator,
+    /// The consistent lambda of a point: kept, since the outputs and the restarting f ask
+    /// for the same state.
+    Point,
+    /// The outputs of a point: kept, and law 2's load-weighted mean coefficient integrated.
+    Outputs,
+}
+
 impl GearedRotor {
     /// The friction sums of the state y at the normal force `lam` and the scalar
     /// coefficient that multiplies them in [`FrictionSums::resultants`]:
     /// law 1 and 2: mu (the sums carry the regularisation for law 2); law 3: mu_mz of
     /// ISO/TR 14179-2 at |lam| and the speeds; law 4: 1 (the sums carry mu(s) at the line
-    /// load |lam| / l). `for_outputs` also integrates the regularised law's mean
-    /// coefficient (law 2's `mu_len`; not needed in f). No allocation.
+    /// load |lam| / l). For [`Asker::Outputs`] also the regularised law's mean coefficient
+    /// (law 2's `mu_len`; not needed in f). No allocation.
     ///
     /// # Errors
     /// [`ModelError::NoContact`] when l = 0.
-    pub fn friction(
+    pub(crate) fn friction(
         &self,
         t: f64,
         y: &SVector<f64, NY>,
         m: &Mesh,
         lam: f64,
-        for_outputs: bool,
+        asker: Asker,
     ) -> Result<(FrictionSums, f64), ModelError> {
+        let for_outputs = asker == Asker::Outputs;
         let k = kinematics(y);
         let (phi1, psi0) = (y[idx::PHI1], self.params.psi0);
         let g = &self.geom;
@@ -61,7 +76,8 @@ impl GearedRotor {
             FrictionLaw::LocalEhl => g.friction_sums_line(m, phi1, psi0, &k, &line),
             law => {
                 let variant = u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb);
-                self.memo.sums(y, variant, || {
+                let keep = asker != Asker::Integrator;
+                self.memo.sums(y, variant, keep, || {
                     g.friction_sums_line(m, phi1, psi0, &k, &line)
                 })
             }
@@ -73,7 +89,7 @@ impl GearedRotor {
     }
 
     /// Load-weighted mean coefficient `1/l int mu_loc ds` of sums from
-    /// [`GearedRotor::friction`] (with `for_outputs`) and their scalar coefficient.
+    /// [`GearedRotor::friction`] (asked by [`Asker::Outputs`]) and their scalar coefficient.
     pub(super) fn mean_coefficient(&self, sums: &FrictionSums, mu: f64) -> f64 {
         match self.params.friction_law {
             FrictionLaw::Coulomb | FrictionLaw::IsoMean => mu,
@@ -96,7 +112,7 @@ impl GearedRotor {
         let lam = y[lam_i];
         let lp = lam + f64::EPSILON.sqrt() * lam.abs().max(1.0);
         let h = lp - lam;
-        let (sp, mup) = self.friction(t, y, m, lp, false)?;
+        let (sp, mup) = self.friction(t, y, m, lp, Asker::Integrator)?;
         let frp = sp.resultants(mup, lp);
         let base = [
             fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
@@ -144,7 +160,7 @@ impl GearedRotor {
         }
         r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(m, &kin);
         let h = |lam: f64| -> Result<f64, ModelError> {
-            let (s, mu) = self.friction(t, y, m, lam, false)?;
+            let (s, mu) = self.friction(t, y, m, lam, Asker::Point)?;
             let fr = s.resultants(mu, lam);
             let q = [
                 fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,

@@ -7,7 +7,9 @@
 //! evaluation. The mesh depends on the displacements only; the sums of laws 1-3 on the
 //! displacements, phi1 and the velocities (not on lambda, the inputs or the time), so a
 //! memo keyed by the bits of those components returns exactly what a new evaluation
-//! would (law 4 depends on lambda through the line load and is not memoised). Not part of
+//! would (law 4 depends on lambda through the line load and is not memoised). Only the
+//! evaluations at a communication point (consistent lambda, outputs) are kept; the
+//! integrator's stages and Jacobian columns read the memo but do not write it. Not part of
 //! any state: a pure cache (the parameters it depends on - geometry, psi0, the law and
 //! v_reg - are fixed for the model's life; the tunables mu and d_phi do not enter).
 
@@ -58,10 +60,11 @@ fn sums_key(y: &SVector<f64, NY>, variant: u64) -> [u64; 16] {
 }
 
 impl KinematicMemo {
-    /// The mesh of y: from the memo or from `eval` (memoised when it succeeds).
+    /// The mesh of y: from the memo or from `eval` (kept when it succeeds and `keep`).
     pub(super) fn mesh<E>(
         &self,
         y: &SVector<f64, NY>,
+        keep: bool,
         eval: impl FnOnce() -> Result<Mesh, E>,
     ) -> Result<Mesh, E> {
         let key = mesh_key(y);
@@ -71,17 +74,20 @@ impl KinematicMemo {
             }
         }
         let m = eval()?;
-        self.0.borrow_mut().mesh = Some((key, m));
+        if keep {
+            self.0.borrow_mut().mesh = Some((key, m));
+        }
         Ok(m)
     }
 
     /// The friction sums of y (`variant` tells apart sums of the same state that differ,
     /// e.g. with law 2's mean coefficient integrated for the outputs): from the memo or
-    /// from `eval`.
+    /// from `eval` (kept when `keep`).
     pub(super) fn sums(
         &self,
         y: &SVector<f64, NY>,
         variant: u64,
+        keep: bool,
         eval: impl FnOnce() -> FrictionSums,
     ) -> FrictionSums {
         let key = sums_key(y, variant);
@@ -91,7 +97,9 @@ impl KinematicMemo {
             }
         }
         let s = eval();
-        self.0.borrow_mut().sums = Some((key, s));
+        if keep {
+            self.0.borrow_mut().sums = Some((key, s));
+        }
         s
     }
 }
