@@ -199,7 +199,7 @@ impl GearedRotor {
     }
 
     /// Friction sums (per unit line pressure `|lambda| / l` times the law's scalar
-    /// coefficient, see [`GearedRotor::friction`]) of the state y (§4) at its lambda.
+    /// coefficient of the friction law) of the state y (§4) at its lambda.
     ///
     /// # Errors
     /// See [`GearedRotor::mesh`]; [`ModelError::NoContact`] when l = 0.
