@@ -34,7 +34,9 @@
 
 use super::LineIntegrals;
 
+mod batch_math;
 pub mod quadrature;
+mod rules;
 
 /// Xu et al. (2007) coefficients b1..b9 for the 75W90 oil.
 pub const XU_B: [f64; 9] = [
@@ -147,6 +149,40 @@ impl EhlLine {
             + b[4] * (-z).exp()
             + (b[7] - 0.5 * b[1]) * rr.ln()
             + (b[5] - b[2]) * ve.ln()
+    }
+
+    /// `exp(ln_mu_over_slide(sigma_i, r_i) + extra_i)` for the N nodes of a panel (r_i > 0;
+    /// 0 outside the line of action): the same formula as [`EhlLine::ln_mu_over_slide`],
+    /// written as one loop over the nodes with the branch-free `ln` and `exp` of
+    /// [`batch_math`], which the compiler vectorises (two nodes per SSE2 instruction).
+    #[inline(always)]
+    pub(crate) fn exp_ln_mu_batch<const N: usize>(
+        &self,
+        sigma: &[f64; N],
+        r: &[f64; N],
+        extra: &[f64; N],
+    ) -> [f64; N] {
+        let b = XU_B;
+        let (c_r, c_v) = (b[7] - 0.5 * b[1], b[5] - b[2]);
+        let mut out = [0.0; N];
+        for i in 0..N {
+            let (rho1, rho2) = (sigma[i], self.lt - sigma[i]);
+            let inside = (rho1 > 0.0) & (rho2 > 0.0);
+            let rr = (rho1 * rho2 * self.inv_lt_cb).max(f64::MIN_POSITIVE);
+            let ve = (0.5 * (self.omega1 * rho1 + self.omega2 * rho2))
+                .abs()
+                .max(V_E_MIN);
+            let z = r[i] * self.z_coef / (ve * rr.sqrt());
+            let ln_mu = self.ln_k
+                + b[3] * z
+                + b[4] * batch_math::exp(-z)
+                + c_r * batch_math::ln(rr)
+                + c_v * batch_math::ln(ve)
+                + extra[i];
+            let mu = batch_math::exp(ln_mu);
+            out[i] = if inside { mu } else { 0.0 };
+        }
+        out
     }
 
     /// `z = SR P_h log10(nu0)` at sigma for the sliding speed r (the argument of the
