@@ -164,22 +164,35 @@ impl EhlLine {
     ) -> [f64; N] {
         let b = XU_B;
         let (c_r, c_v) = (b[7] - 0.5 * b[1], b[5] - b[2]);
-        let mut out = [0.0; N];
+        // One loop per elementary function: each loop's iterations are independent, so
+        // the long dependency chains of the series overlap (one fused loop runs at the
+        // latency of a chain).
+        let (mut rr, mut ve, mut z) = ([0.0; N], [0.0; N], [0.0; N]);
         for i in 0..N {
             let (rho1, rho2) = (sigma[i], self.lt - sigma[i]);
-            let inside = (rho1 > 0.0) & (rho2 > 0.0);
-            let rr = (rho1 * rho2 * self.inv_lt_cb).max(f64::MIN_POSITIVE);
-            let ve = (0.5 * (self.omega1 * rho1 + self.omega2 * rho2))
+            rr[i] = (rho1 * rho2 * self.inv_lt_cb).max(f64::MIN_POSITIVE);
+            ve[i] = (0.5 * (self.omega1 * rho1 + self.omega2 * rho2))
                 .abs()
                 .max(V_E_MIN);
-            let z = r[i] * self.z_coef / (ve * rr.sqrt());
-            let ln_mu = self.ln_k
-                + b[3] * z
-                + b[4] * batch_math::exp(-z)
-                + c_r * batch_math::ln(rr)
-                + c_v * batch_math::ln(ve)
-                + extra[i];
-            let mu = batch_math::exp(ln_mu);
+            z[i] = r[i] * self.z_coef / (ve[i] * rr[i].sqrt());
+        }
+        let mut ln_mu = [0.0; N];
+        for i in 0..N {
+            ln_mu[i] = self.ln_k + b[3] * z[i] + extra[i];
+        }
+        for i in 0..N {
+            ln_mu[i] += c_r * batch_math::ln(rr[i]);
+        }
+        for i in 0..N {
+            ln_mu[i] += c_v * batch_math::ln(ve[i]);
+        }
+        for i in 0..N {
+            ln_mu[i] += b[4] * batch_math::exp(-z[i]);
+        }
+        let mut out = [0.0; N];
+        for i in 0..N {
+            let inside = (sigma[i] > 0.0) & (sigma[i] < self.lt);
+            let mu = batch_math::exp(ln_mu[i]);
             out[i] = if inside { mu } else { 0.0 };
         }
         out

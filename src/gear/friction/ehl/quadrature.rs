@@ -228,6 +228,8 @@ impl Line<'_> {
             x[i] = self.x0 - self.kappa * s[i];
             r[i] = (x[i] * x[i] + y2).sqrt();
             sigma[i] = self.sigma0 - sb * s[i];
+        }
+        for i in 0..N {
             extra[i] = XU_B[2] * batch_math::ln(r[i].max(f64::MIN_POSITIVE));
         }
         let mu = self.e.exp_ln_mu_batch(&sigma, &r, &extra);
