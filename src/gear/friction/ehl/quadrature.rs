@@ -34,28 +34,17 @@ use crate::gear::friction::LineIntegrals;
 use super::rules::*;
 
 /// Rule of the Gauss-Jacobi panel at the root.
-const ROOT_RULE: Rule<12> = Rule {
-    x: GJ12_X,
-    w: GJ12_W,
-};
+const ROOT_RULE: Rule<12> = Rule::new(GJ12_X, GJ12_W);
 /// Rule of the graded panels.
-const PANEL_RULE: Rule<12> = Rule {
-    x: GL12_X,
-    w: GL12_W,
-};
+const PANEL_RULE: Rule<10> = Rule::new(GL10_X, GL10_W);
 /// Rule of the sinh panel (axial sliding).
-const SINH_RULE: Rule<16> = Rule {
-    x: GL16_X,
-    w: GL16_W,
-};
-/// Ratio of the graded panels [a, RATIO a].
+const SINH_RULE: Rule<16> = Rule::new(GL16_X, GL16_W);
 /// Pieces that start closer to the root than this fraction of the root panel get the
 /// Gauss-Jacobi panel; farther ones only graded panels.
 const NEAR_JACOBI: f64 = 0.1;
-/// Ratio
 /// The sinh panel reaches SINH_SPAN delta.
 const SINH_SPAN: f64 = 8.0;
-/// Ratio
+/// Ratio of the graded panels [a, RATIO a].
 const RATIO: f64 = 4.0;
 
 /// Axial sliding slower than this fraction of the sliding at a piece's far end
