@@ -123,3 +123,34 @@ pub(super) const GL16_W: [f64; 16] = [
     0.03112676196932394643142192,
     0.01357622970587704742589029,
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gear::friction::ehl::XU_B;
+
+    /// `sum w x^k` against the exact moments `1/(k + 1 + beta)` for every degree the rule
+    /// integrates exactly (k <= 2n - 1): a wrong digit in a node or weight shows here.
+    fn check<const N: usize>(x: &[f64; N], w: &[f64; N], beta: f64) -> f64 {
+        let mut worst: f64 = 0.0;
+        for k in 0..2 * N as i32 {
+            let q: f64 = x.iter().zip(w).map(|(&u, &v)| v * u.powi(k)).sum();
+            let exact = 1.0 / (k as f64 + 1.0 + beta);
+            worst = worst.max((q - exact).abs() / exact);
+        }
+        worst
+    }
+
+    #[test]
+    fn rules_integrate_their_polynomials_exactly() {
+        let beta = XU_B[2] - 1.0;
+        let errs = [
+            check(&GJ12_X, &GJ12_W, beta),
+            check(&GL10_X, &GL10_W, 0.0),
+            check(&GL16_X, &GL16_W, 0.0),
+        ];
+        for e in errs {
+            assert!(e < 1e-13, "{errs:?}");
+        }
+    }
+}
