@@ -7,40 +7,48 @@
 //!
 //! With delta = |y / kappa| (the axial sliding y in units of the distance along the line):
 //!
-//! - Root panel, for y = 0 or delta < 3e-6 d_far: 8-point Gauss-Jacobi for the weight
+//! - Root panel, for y = 0 or delta < 3e-6 d_far, when the piece starts at the root or
+//!   closer to it than a tenth of the panel: 12-point Gauss-Jacobi for the weight
 //!   d^(b3 - 1) on [0, h0] (minus the same on [0, near] when the root lies outside the
-//!   piece), h0 such that z = SR P_h log10(nu0) <= 0.2 on it: the law's double exponential
+//!   piece), h0 such that z = SR P_h log10(nu0) <= 1 on it: the law's double exponential
 //!   exp(b5 e^-z) grows fast for Re z < 0, where a panel's ellipse of analyticity reaches
-//!   when it starts at z = 0. With this weight every integrand is smooth times d^(b3-1)
-//!   (`mu = d^(b3-1) d g`, `mu / r = d^(b3-1) g / |kappa|`); for y = 0 `r / d = |kappa|`
-//!   is constant, so a node costs two logarithms and two exponentials.
+//!   when it starts at z = 0 (8 points needed z <= 0.2; 12 points reach 1e-12 up to
+//!   z = 1, which covers the whole side of the pitch line at the default pair). With
+//!   this weight every integrand is smooth times d^(b3-1) (`mu = d^(b3-1) d g`,
+//!   `mu / r = d^(b3-1) g / |kappa|`); for y = 0 `r / d = |kappa|` is constant, so a node
+//!   costs two logarithms and two exponentials.
 //! - Root panel with axial sliding (delta >= 3e-6 d_far): r has branch points at
-//!   d = +-i delta; on [near, min(far, delta)] d = delta sinh u makes the integrands
-//!   analytic in the strip |Im u| < pi/2, 8-point Gauss-Legendre in u.
-//! - The rest [h0 or delta, far]: Gauss-Legendre panels [a, 2a] from the far end down
-//!   (the branch points at 0 and +-i delta <= a stay outside the ellipse rho = 5.8),
-//!   no longer than their distance from the ends of the line of action (R = 0 there);
-//!   below far/64 and far/1024 the ratio grows to 4 and 8 (those panels carry less than
-//!   1e-4 and 1e-6 of the integrals); 8 nodes, 6 between far/64 and far/8.
+//!   d = +-i delta; on [near, min(far, 8 delta)] d = delta sinh u makes the integrands
+//!   analytic in the strip |Im u| < pi/2, 16-point Gauss-Legendre in u (12 points or a
+//!   panel to 16 delta or beyond fail the 1e-10 line test).
+//! - The rest [h0 or 8 delta, far]: 10-point Gauss-Legendre panels [a, 4a] from the far
+//!   end down (the branch points at 0 and +-i delta <= a stay outside the ellipse
+//!   rho = 3), no longer than their distance from the ends of the line of action
+//!   (R = 0 there). 8 points fail the line test; ratio 5 leaves the pair test at 2.5e-11.
+//!
+//! Each panel evaluates its nodes together (`EhlLine::exp_ln_mu_batch`): one loop per
+//! elementary function, with the vectorised `ln` and `exp` of `batch_math`.
 //!
 //! Accuracy against adaptive quadrature of the local law (`tests/gear_friction_laws.rs`,
 //! 2000 random lines, 3/4 of them with axial sliding from 1e-11 to 0.3 m/s): worst
-//! 6e-12 (y = 0) and 1.8e-11 (y != 0) of the natural scale of each integral.
-//! No allocation.
+//! 4.8e-13 (y = 0) and 1.7e-11 (y != 0, the 3e-6 switch above) of the natural scale of
+//! each integral. No allocation.
 
 use super::{batch_math, EhlLine, XU_B};
 use crate::gear::friction::LineIntegrals;
 
 use super::rules::*;
 
-/// Rule of the Gauss-Jacobi panel at the root.
+/// Rule of the Gauss-Jacobi panel at the root (10 points need z <= 0.7 and then more
+/// graded panels: no fewer nodes).
 const ROOT_RULE: Rule<12> = Rule::new(GJ12_X, GJ12_W);
 /// Rule of the graded panels.
 const PANEL_RULE: Rule<10> = Rule::new(GL10_X, GL10_W);
 /// Rule of the sinh panel (axial sliding).
 const SINH_RULE: Rule<16> = Rule::new(GL16_X, GL16_W);
 /// Pieces that start closer to the root than this fraction of the root panel get the
-/// Gauss-Jacobi panel; farther ones only graded panels.
+/// Gauss-Jacobi panel; farther ones only graded panels (a piece away from the pitch line
+/// then needs one panel instead of two Gauss-Jacobi panels).
 const NEAR_JACOBI: f64 = 0.1;
 /// The sinh panel reaches SINH_SPAN delta.
 const SINH_SPAN: f64 = 8.0;
@@ -54,7 +62,8 @@ const DELTA_SMALL: f64 = 3e-6;
 
 /// Largest z = SR P_h log10(nu0) on the Gauss-Jacobi panel at the root: the law's
 /// double exponential exp(b5 e^-z) grows fast for Re z < 0, where the ellipse of
-/// analyticity of a panel starting at z = 0 reaches.
+/// analyticity of a panel starting at z = 0 reaches (1.0 with 12 points; 1.5 fails the
+/// line test).
 const Z_ROOT: f64 = 1.0;
 
 /// Segment data for the quadrature.
