@@ -116,7 +116,9 @@ mod tests {
         ] {
             worst_ln = worst_ln.max((ln(x) - x.ln()).abs());
         }
-        println!("batch ln/exp against the library: worst {worst_ln:.1e} (ln), {worst_exp:.1e} (exp)");
+        println!(
+            "batch ln/exp against the library: worst {worst_ln:.1e} (ln), {worst_exp:.1e} (exp)"
+        );
         assert!(worst_ln < 1e-15, "ln: {worst_ln:e}");
         assert!(worst_exp < 1e-15, "exp: {worst_exp:e}");
         assert_eq!(exp(f64::NEG_INFINITY), 0.0);

@@ -42,6 +42,10 @@ use super::rules::*;
 /// Rule of the Gauss-Jacobi panel at the root (10 points need z <= 0.7 and then more
 /// graded panels: no fewer nodes).
 const ROOT_RULE: Rule<12> = Rule::new(GJ12_X, GJ12_W);
+/// Rule of the Gauss-Jacobi panel at the root where z <= Z_ROOT_SHORT on it.
+const ROOT_RULE_SHORT: Rule<10> = Rule::new(GJ10_X, GJ10_W);
+/// Largest z on a root panel that gets [`ROOT_RULE_SHORT`].
+const Z_ROOT_SHORT: f64 = 0.7;
 /// Rule of the graded panels.
 const PANEL_RULE: Rule<10> = Rule::new(GL10_X, GL10_W);
 /// Rule of the sinh panel (axial sliding).
@@ -166,9 +170,11 @@ impl Line<'_> {
             };
             let h0 = h0.min(self.room(root, root + dir * h0).max(1e-3 * far));
             if near < NEAR_JACOBI * h0 {
-                self.jacobi(acc, root, dir, h0, 1.0);
+                // z grows about linearly with d
+                let z_of = |d: f64| z_far * d / far;
+                self.jacobi(acc, root, dir, h0, 1.0, z_of(h0));
                 if near > 0.0 {
-                    self.jacobi(acc, root, dir, near, -1.0);
+                    self.jacobi(acc, root, dir, near, -1.0, z_of(near));
                 }
                 h0
             } else {
@@ -242,8 +248,24 @@ impl Line<'_> {
     /// Gauss-Jacobi rule for the weight d^(b3 - 1):
     /// `mu / d^(b3 - 1) = d exp(ln_mu_over_slide + b3 ln(r / d))`, and for y = 0
     /// `r / d = |kappa|` is constant (one logarithm per call instead of per node).
-    fn jacobi(&self, acc: &mut Acc, root: f64, dir: f64, dmax: f64, sign: f64) {
-        const N: usize = ROOT_RULE.x.len();
+    fn jacobi(&self, acc: &mut Acc, root: f64, dir: f64, dmax: f64, sign: f64, z_max: f64) {
+        if z_max <= Z_ROOT_SHORT {
+            self.jacobi_rule(acc, root, dir, dmax, sign, &ROOT_RULE_SHORT);
+        } else {
+            self.jacobi_rule(acc, root, dir, dmax, sign, &ROOT_RULE);
+        }
+    }
+
+    /// [`Line::jacobi`] with the rule given.
+    fn jacobi_rule<const N: usize>(
+        &self,
+        acc: &mut Acc,
+        root: f64,
+        dir: f64,
+        dmax: f64,
+        sign: f64,
+        rule: &Rule<N>,
+    ) {
         let ak = self.kappa.abs();
         let scale = sign * dmax.powf(XU_B[2]);
         let sb = self.e.sin_beta_b;
@@ -251,7 +273,7 @@ impl Line<'_> {
         let (mut d, mut s, mut x, mut r, mut sigma, mut extra) =
             ([0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N]);
         for i in 0..N {
-            d[i] = dmax * ROOT_RULE.x[i];
+            d[i] = dmax * rule.x[i];
             s[i] = root + dir * d[i];
             // x(s) = kappa (root - s), formed without the cancellation of x0 - kappa s
             x[i] = -self.kappa * dir * d[i];
@@ -271,7 +293,7 @@ impl Line<'_> {
         }
         let g = self.e.exp_ln_mu_batch(&sigma, &r, &extra);
         for i in 0..N {
-            acc.add(s[i], x[i], r[i], scale * ROOT_RULE.w[i] * d[i] * g[i]);
+            acc.add(s[i], x[i], r[i], scale * rule.w[i] * d[i] * g[i]);
         }
     }
 

@@ -21,6 +21,34 @@ impl<const N: usize> Rule<N> {
     }
 }
 
+/// Nodes of the 10-point Gauss-Jacobi for the weight u^(b3 - 1).
+#[allow(clippy::excessive_precision)]
+pub(super) const GJ10_X: [f64; 10] = [
+    0.01360589547743964543239369,
+    0.06858973046460977543235409,
+    0.1617501380404860071006181,
+    0.284859238705912304881841,
+    0.427018318138211318265266,
+    0.5756397051964843039148459,
+    0.7175631649795189378892784,
+    0.8402219083695105710997883,
+    0.9327572008221804263742605,
+    0.9869977097262015168203665,
+];
+/// Weights of the 10-point Gauss-Jacobi for the weight u^(b3 - 1).
+#[allow(clippy::excessive_precision)]
+pub(super) const GJ10_W: [f64; 10] = [
+    0.0291181275182110984627061,
+    0.06824965269248015318274483,
+    0.1027770415970526500183958,
+    0.1286636856942122056238456,
+    0.143113098279020803409052,
+    0.144546196604289784719233,
+    0.1326803497354082917225806,
+    0.1085289929616676335003349,
+    0.07429515627969804919202093,
+    0.03320692759488048564305199,
+];
 /// Nodes of the 12-point Gauss-Jacobi for the weight u^(b3 - 1).
 #[allow(clippy::excessive_precision)]
 pub(super) const GJ12_X: [f64; 12] = [
@@ -145,6 +173,7 @@ mod tests {
     fn rules_integrate_their_polynomials_exactly() {
         let beta = XU_B[2] - 1.0;
         let errs = [
+            check(&GJ10_X, &GJ10_W, beta),
             check(&GJ12_X, &GJ12_W, beta),
             check(&GL10_X, &GL10_W, 0.0),
             check(&GL16_X, &GL16_W, 0.0),
