@@ -48,6 +48,9 @@ const ROOT_RULE_SHORT: Rule<10> = Rule::new(GJ10_X, GJ10_W);
 const Z_ROOT_SHORT: f64 = 0.7;
 /// Rule of the graded panels.
 const PANEL_RULE: Rule<10> = Rule::new(GL10_X, GL10_W);
+/// Rule of the graded panels no longer than [a, 2a] (the branch points at 0 and
+/// +-i delta <= a outside the ellipse rho = 5.8).
+const PANEL_RULE_SHORT: Rule<8> = Rule::new(GL8_X, GL8_W);
 /// Rule of the sinh panel (axial sliding).
 const SINH_RULE: Rule<16> = Rule::new(GL16_X, GL16_W);
 /// Pieces that start closer to the root than this fraction of the root panel get the
@@ -205,7 +208,11 @@ impl Line<'_> {
                 a = hi - room.max(1e-3 * far);
             }
             let s0 = if dir > 0.0 { root + a } else { root - hi };
-            self.legendre(acc, s0, hi - a, &PANEL_RULE);
+            if hi <= 2.0 * a {
+                self.legendre(acc, s0, hi - a, &PANEL_RULE_SHORT);
+            } else {
+                self.legendre(acc, s0, hi - a, &PANEL_RULE);
+            }
             hi = a;
         }
     }

@@ -82,6 +82,30 @@ pub(super) const GJ12_W: [f64; 12] = [
     0.02351240547263129663011324,
 ];
 
+/// Nodes of the 8-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL8_X: [f64; 8] = [
+    0.01985507175123188415821957,
+    0.101666761293186630204223,
+    0.2372337950418355070911305,
+    0.4082826787521750975302619,
+    0.5917173212478249024697381,
+    0.7627662049581644929088695,
+    0.898333238706813369795777,
+    0.9801449282487681158417804,
+];
+/// Weights of the 8-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL8_W: [f64; 8] = [
+    0.05061426814518812957626568,
+    0.111190517226687235272178,
+    0.1568533229389436436689811,
+    0.1813418916891809914825752,
+    0.1813418916891809914825752,
+    0.1568533229389436436689811,
+    0.111190517226687235272178,
+    0.05061426814518812957626568,
+];
 /// Nodes of the 10-point Gauss-Legendre.
 #[allow(clippy::excessive_precision)]
 pub(super) const GL10_X: [f64; 10] = [
@@ -175,6 +199,7 @@ mod tests {
         let errs = [
             check(&GJ10_X, &GJ10_W, beta),
             check(&GJ12_X, &GJ12_W, beta),
+            check(&GL8_X, &GL8_W, 0.0),
             check(&GL10_X, &GL10_W, 0.0),
             check(&GL16_X, &GL16_W, 0.0),
         ];
