@@ -53,6 +53,11 @@ const PANEL_RULE: Rule<10> = Rule::new(GL10_X, GL10_W);
 const PANEL_RULE_SHORT: Rule<8> = Rule::new(GL8_X, GL8_W);
 /// Rule of the sinh panel (axial sliding).
 const SINH_RULE: Rule<16> = Rule::new(GL16_X, GL16_W);
+/// Rule of a sinh panel no longer than SINH_U_SHORT in u.
+const SINH_RULE_SHORT: Rule<10> = Rule::new(GL10_X, GL10_W);
+/// Longest sinh panel (in u) that gets [`SINH_RULE_SHORT`]: the strip |Im u| < pi/2
+/// gives rho = 6.4 for it (u = 2 fails the line test, 1.5 passes; 1 keeps a margin).
+const SINH_U_SHORT: f64 = 1.0;
 /// Pieces that start closer to the root than this fraction of the root panel get the
 /// Gauss-Jacobi panel; farther ones only graded panels (a piece away from the pitch line
 /// then needs one panel instead of two Gauss-Jacobi panels).
@@ -307,15 +312,33 @@ impl Line<'_> {
     /// y != 0: `int_lo^hi` (hi <= SINH_SPAN delta) in d = delta sinh u by Gauss-Legendre in
     /// u (inside the strip |Im u| < pi/2 of analyticity).
     fn sinh_panel(&self, acc: &mut Acc, root: f64, dir: f64, lo: f64, hi: f64, delta: f64) {
-        const N: usize = SINH_RULE.x.len();
         let (u0, u1) = ((lo / delta).asinh(), (hi / delta).asinh());
         let hu = u1 - u0;
+        if hu <= SINH_U_SHORT {
+            self.sinh_rule(acc, root, dir, u0, hu, delta, &SINH_RULE_SHORT);
+        } else {
+            self.sinh_rule(acc, root, dir, u0, hu, delta, &SINH_RULE);
+        }
+    }
+
+    /// [`Line::sinh_panel`] on [u0, u0 + hu] with the rule given.
+    #[allow(clippy::too_many_arguments)]
+    fn sinh_rule<const N: usize>(
+        &self,
+        acc: &mut Acc,
+        root: f64,
+        dir: f64,
+        u0: f64,
+        hu: f64,
+        delta: f64,
+        rule: &Rule<N>,
+    ) {
         let ry = self.kappa.abs() * delta;
         let sb = self.e.sin_beta_b;
         let (mut s, mut x, mut r, mut sigma, mut extra, mut jac) =
             ([0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N]);
         for i in 0..N {
-            let eu = batch_math::exp(u0 + hu * SINH_RULE.x[i]);
+            let eu = batch_math::exp(u0 + hu * rule.x[i]);
             // sinh and cosh from one exponential; sinh's cancellation at small u costs an
             // absolute 1e-16 delta in the node position only.
             let (sh, ch) = (0.5 * (eu - 1.0 / eu), 0.5 * (eu + 1.0 / eu));
@@ -325,7 +348,7 @@ impl Line<'_> {
             r[i] = ry * ch;
             sigma[i] = self.sigma0 - sb * s[i];
             extra[i] = XU_B[2] * batch_math::ln(r[i]);
-            jac[i] = hu * SINH_RULE.w[i] * delta * ch;
+            jac[i] = hu * rule.w[i] * delta * ch;
         }
         let mu = self.e.exp_ln_mu_batch(&sigma, &r, &extra);
         for i in 0..N {
