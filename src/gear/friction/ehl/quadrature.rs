@@ -44,8 +44,14 @@ use super::rules::*;
 const ROOT_RULE: Rule<12> = Rule::new(GJ12_X, GJ12_W);
 /// Rule of the Gauss-Jacobi panel at the root where z <= Z_ROOT_SHORT on it.
 const ROOT_RULE_SHORT: Rule<10> = Rule::new(GJ10_X, GJ10_W);
-/// Largest z on a root panel that gets [`ROOT_RULE_SHORT`].
+/// Largest z on a root panel that gets [`ROOT_RULE_SHORT`] (10 points with z up to 1
+/// fail the line test).
 const Z_ROOT_SHORT: f64 = 0.7;
+/// Rule of the Gauss-Jacobi panel at the root where z <= Z_ROOT_TINY on it.
+const ROOT_RULE_TINY: Rule<8> = Rule::new(GJ8_X, GJ8_W);
+/// Largest z on a root panel that gets [`ROOT_RULE_TINY`] (the limit of the earlier
+/// 8-point design).
+const Z_ROOT_TINY: f64 = 0.2;
 /// Rule of the graded panels.
 const PANEL_RULE: Rule<10> = Rule::new(GL10_X, GL10_W);
 /// Rule of the graded panels no longer than [a, 2a] (the branch points at 0 and
@@ -261,7 +267,9 @@ impl Line<'_> {
     /// `mu / d^(b3 - 1) = d exp(ln_mu_over_slide + b3 ln(r / d))`, and for y = 0
     /// `r / d = |kappa|` is constant (one logarithm per call instead of per node).
     fn jacobi(&self, acc: &mut Acc, root: f64, dir: f64, dmax: f64, sign: f64, z_max: f64) {
-        if z_max <= Z_ROOT_SHORT {
+        if z_max <= Z_ROOT_TINY {
+            self.jacobi_rule(acc, root, dir, dmax, sign, &ROOT_RULE_TINY);
+        } else if z_max <= Z_ROOT_SHORT {
             self.jacobi_rule(acc, root, dir, dmax, sign, &ROOT_RULE_SHORT);
         } else {
             self.jacobi_rule(acc, root, dir, dmax, sign, &ROOT_RULE);

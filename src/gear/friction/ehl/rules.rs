@@ -21,6 +21,30 @@ impl<const N: usize> Rule<N> {
     }
 }
 
+/// Nodes of the 8-point Gauss-Jacobi for the weight u^(b3 - 1).
+#[allow(clippy::excessive_precision)]
+pub(super) const GJ8_X: [f64; 8] = [
+    0.02068744582211924014198953,
+    0.1032549824268569461885552,
+    0.2391411566784287820293917,
+    0.4101041501358960393201118,
+    0.5931558708668661403296209,
+    0.7636798828508523156680631,
+    0.8987472804122804252805815,
+    0.9802281898413817230095011,
+];
+/// Weights of the 8-point Gauss-Jacobi for the weight u^(b3 - 1).
+#[allow(clippy::excessive_precision)]
+pub(super) const GJ8_W: [f64; 8] = [
+    0.04483956832031630535470332,
+    0.1029428475252431697200277,
+    0.1490615514754832568333941,
+    0.1753539637811799894630995,
+    0.1774838889041625326513913,
+    0.1548009957483329695753095,
+    0.1103292595008486991824531,
+    0.05036715370135423269358717,
+];
 /// Nodes of the 10-point Gauss-Jacobi for the weight u^(b3 - 1).
 #[allow(clippy::excessive_precision)]
 pub(super) const GJ10_X: [f64; 10] = [
@@ -197,6 +221,7 @@ mod tests {
     fn rules_integrate_their_polynomials_exactly() {
         let beta = XU_B[2] - 1.0;
         let errs = [
+            check(&GJ8_X, &GJ8_W, beta),
             check(&GJ10_X, &GJ10_W, beta),
             check(&GJ12_X, &GJ12_W, beta),
             check(&GL8_X, &GL8_W, 0.0),
