@@ -8,30 +8,33 @@
 //! With delta = |y / kappa| (the axial sliding y in units of the distance along the line):
 //!
 //! - Root panel, for y = 0 or delta < 3e-6 d_far, when the piece starts at the root or
-//!   closer to it than a tenth of the panel: 12-point Gauss-Jacobi for the weight
-//!   d^(b3 - 1) on [0, h0] (minus the same on [0, near] when the root lies outside the
-//!   piece), h0 such that z = SR P_h log10(nu0) <= 1 on it: the law's double exponential
-//!   exp(b5 e^-z) grows fast for Re z < 0, where a panel's ellipse of analyticity reaches
-//!   when it starts at z = 0 (8 points needed z <= 0.2; 12 points reach 1e-12 up to
-//!   z = 1, which covers the whole side of the pitch line at the default pair). With
+//!   closer to it than a tenth of the panel: Gauss-Jacobi for the weight d^(b3 - 1) on
+//!   [0, h0] (minus the same on [0, near] when the root lies outside the piece), h0 such
+//!   that z = SR P_h log10(nu0) <= 1 on it: the law's double exponential exp(b5 e^-z)
+//!   grows fast for Re z < 0, where a panel's ellipse of analyticity reaches when it
+//!   starts at z = 0. 8 points where z <= 0.2 on the panel, 10 to z = 0.7, 12 to z = 1
+//!   (12 points reach 1e-12 at z = 1, which covers the whole side of the pitch line at
+//!   the default pair; 10 points fail the line test at z = 1, 12 at z = 1.5). With
 //!   this weight every integrand is smooth times d^(b3-1) (`mu = d^(b3-1) d g`,
 //!   `mu / r = d^(b3-1) g / |kappa|`); for y = 0 `r / d = |kappa|` is constant, so a node
 //!   costs two logarithms and two exponentials.
 //! - Root panel with axial sliding (delta >= 3e-6 d_far): r has branch points at
 //!   d = +-i delta; on [near, min(far, 8 delta)] d = delta sinh u makes the integrands
-//!   analytic in the strip |Im u| < pi/2, 16-point Gauss-Legendre in u (12 points or a
-//!   panel to 16 delta or beyond fail the 1e-10 line test).
-//! - The rest [h0 or 8 delta, far]: 10-point Gauss-Legendre panels [a, 4a] from the far
-//!   end down (the branch points at 0 and +-i delta <= a stay outside the ellipse
-//!   rho = 3), no longer than their distance from the ends of the line of action
-//!   (R = 0 there). 8 points fail the line test; ratio 5 leaves the pair test at 2.5e-11.
+//!   analytic in the strip |Im u| < pi/2, 16-point Gauss-Legendre in u, 10 points when
+//!   the panel spans at most 1 in u (16 points over 2 in u fail: a panel to 16 delta or
+//!   beyond; 12 points to 8 delta fail too).
+//! - The rest [h0 or 8 delta, far]: Gauss-Legendre panels [a, 4a] from the far end down
+//!   (the branch points at 0 and +-i delta <= a stay outside the ellipse rho = 3),
+//!   no longer than their distance from the ends of the line of action (R = 0 there);
+//!   10 points, 8 where a panel spans at most [a, 2a] (rho >= 5.8). 8 points on [a, 4a]
+//!   fail the line test; ratio 5 leaves the pair test at 2.5e-11.
 //!
 //! Each panel evaluates its nodes together (`EhlLine::exp_ln_mu_batch`): one loop per
 //! elementary function, with the vectorised `ln` and `exp` of `batch_math`.
 //!
 //! Accuracy against adaptive quadrature of the local law (`tests/gear_friction_laws.rs`,
 //! 2000 random lines, 3/4 of them with axial sliding from 1e-11 to 0.3 m/s): worst
-//! 4.8e-13 (y = 0) and 1.7e-11 (y != 0, the 3e-6 switch above) of the natural scale of
+//! 9.8e-13 (y = 0) and 1.8e-11 (y != 0, the 3e-6 switch above) of the natural scale of
 //! each integral. No allocation.
 
 use super::{batch_math, EhlLine, XU_B};
