@@ -27,11 +27,12 @@
 //! (Xu 2005): P_h 0.5..2.5 GPa, SR up to ~1, V_e a few to ~30 m/s, typical automotive
 //! gear oils; elsewhere it is an extrapolation (V_e is floored at [`V_E_MIN`]).
 //!
-//! Quadrature: see [`quadrature`] (split at the pitch line, an 8- to 12-point Gauss-Jacobi
-//! panel for the weight d^(b3-1) there, a sinh map across the branch points of axial
-//! sliding, graded 8- or 10-point Gauss-Legendre panels beyond; the nodes of a panel evaluated together
-//! with vectorised `ln`/`exp`; 1e-11 against adaptive quadrature). Spur lines (sigma
-//! constant along the line) need one evaluation of mu. No allocation.
+//! Quadrature: see [`quadrature`] (split at the pitch line, an 8- to 12-point
+//! Gauss-Jacobi panel for the weight d^(b3-1) there, a sinh map across the branch points
+//! of axial sliding, graded 8- or 10-point Gauss-Legendre panels beyond; the nodes of a
+//! panel evaluated together with vectorised `ln`/`exp`; 1e-11 against adaptive
+//! quadrature). Spur lines (sigma constant along the line) need one evaluation of mu.
+//! No allocation.
 
 use super::LineIntegrals;
 
