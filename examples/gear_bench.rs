@@ -28,8 +28,8 @@ fn time_per_call(rounds: usize, reps: usize, mut f: impl FnMut(usize)) -> f64 {
 }
 
 fn main() {
-    // `gear_bench count LAW WHAT N`: exactly N evaluations (WHAT = rhs, rhs_moving or
-    // jacobian) for instruction counting (valgrind --tool=callgrind), no timing.
+    // `gear_bench count LAW WHAT N`: exactly N evaluations (WHAT = rhs, rhs_moving,
+    // jacobian or lambda, the consistent lambda) for instruction counting (valgrind --tool=callgrind), no timing.
     let args: Vec<String> = std::env::args().collect();
     if args.len() == 5 && args[1] == "count" {
         let law = FrictionLaw::from_code(args[2].parse().expect("law code")).expect("law 1-4");
@@ -167,6 +167,8 @@ fn count(params: Params, what: &str, n: usize) {
         if what == "jacobian" {
             assert!(model.jacobian(0.0, black_box(y), &mut jac));
             black_box(&jac);
+        } else if what == "lambda" {
+            black_box(model.consistent_lambda(0.0, black_box(y)).expect("lambda"));
         } else {
             model.rhs(0.0, black_box(y), &mut f).expect("rhs");
             black_box(&f);
