@@ -57,6 +57,9 @@ impl<const N: usize> Radau5<N> {
             message: e.message,
         };
         let s = &mut self.st;
+        // As in `compute_jacobian`: J is overwritten from here on.
+        s.jac_valid = false;
+        s.lu_valid = false;
         let analytic =
             s.params.analytic_jac && problem.jacobian(t, &s.y, &mut s.jac).map_err(rhs_err)?;
         if analytic {

@@ -404,6 +404,10 @@ impl<const N: usize> Radau5<N> {
     ) -> Result<(), Error> {
         let s = &mut self.st;
         s.stats.njac += 1;
+        // J is overwritten from here on: should f fail half-way, neither J nor the LU pair
+        // (which belongs to the old J) may be used until a new J is decomposed.
+        s.jac_valid = false;
+        s.lu_valid = false;
         let t = s.t;
         let to_err = |e: RhsError| Error::Rhs {
             t,

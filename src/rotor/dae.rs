@@ -199,11 +199,12 @@ impl GearedRotor {
     }
 
     /// Friction sums (per unit line pressure `|lambda| / l` times the law's scalar
-    /// coefficient of the friction law) of the state y (§4) at its lambda.
+    /// coefficient of the friction law) of the state y (§4) at its lambda. `m` must be
+    /// the mesh of y ([`GearedRotor::mesh`]): the result is memoised under y's key.
     ///
     /// # Errors
     /// See [`GearedRotor::mesh`]; [`ModelError::NoContact`] when l = 0.
-    pub fn friction_sums(
+    pub(crate) fn friction_sums(
         &self,
         t: f64,
         y: &SVector<f64, NY>,
@@ -477,11 +478,12 @@ impl GearedRotor {
     }
 
     /// [`GearedRotor::consistent_lambda`] with the mesh and friction sums of y already
-    /// evaluated (they do not depend on lambda).
+    /// evaluated (they do not depend on lambda); `m` must be the mesh of y (laws 3 and 4
+    /// evaluate, and memoise, friction with it).
     ///
     /// # Errors
     /// [`ModelError::InconsistentLambda`] as for [`GearedRotor::consistent_lambda`].
-    pub fn consistent_lambda_with(
+    pub(crate) fn consistent_lambda_with(
         &self,
         t: f64,
         y: &SVector<f64, NY>,
