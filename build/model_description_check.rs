@@ -737,6 +737,53 @@ fn generate(p: &Parsed, guid: &str) -> String {
         );
     }
     let _ = writeln!(s, "];");
+    // One dense table per type, indexed by vr - (smallest vr of that type): a lookup is
+    // a subtraction and a load (masters look up every value reference of every call).
+    let _ = writeln!(s, "const NO_VAR: u16 = u16::MAX;");
+    assert!(
+        p.vars.len() < usize::from(u16::MAX),
+        "more variables than the tables hold"
+    );
+    let mut arms = String::new();
+    for ty in ["Real", "Integer", "Boolean"] {
+        let of_ty: Vec<(usize, u32)> = p
+            .vars
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| {
+                let t = if v.ty == "Enumeration" {
+                    "Integer"
+                } else {
+                    v.ty.as_str()
+                };
+                t == ty
+            })
+            .map(|(i, v)| (i, v.vr))
+            .collect();
+        let min = of_ty.iter().map(|&(_, vr)| vr).min().unwrap_or(0);
+        let max = of_ty.iter().map(|&(_, vr)| vr).max().unwrap_or(0);
+        let len = if of_ty.is_empty() {
+            0
+        } else {
+            (max - min + 1) as usize
+        };
+        if len > 100_000 {
+            fail(format!(
+                "{ty} value references span {min}..={max}: too sparse for a table"
+            ));
+        }
+        let mut table = vec!["NO_VAR".to_string(); len];
+        for &(i, vr) in &of_ty {
+            table[(vr - min) as usize] = i.to_string();
+        }
+        let upper = ty.to_uppercase();
+        let _ = writeln!(
+            s,
+            "static {upper}_INDEX: [u16; {len}] = [{}];",
+            table.join(", ")
+        );
+        let _ = writeln!(arms, "        VarType::{ty} => ({min}, &{upper}_INDEX),");
+    }
     let _ = writeln!(
         s,
         "/// Position in [`VARIABLES`] of the variable with this type and value reference."
@@ -745,15 +792,14 @@ fn generate(p: &Parsed, guid: &str) -> String {
         s,
         "pub fn index_of(ty: VarType, vr: u32) -> Option<usize> {{"
     );
-    let _ = writeln!(s, "    match (ty, vr) {{");
-    for (i, v) in p.vars.iter().enumerate() {
-        let ty = if v.ty == "Enumeration" {
-            "Integer"
-        } else {
-            v.ty.as_str()
-        };
-        let _ = writeln!(s, "        (VarType::{ty}, {}) => Some({i}),", v.vr);
-    }
+    let _ = writeln!(s, "    let (min, table): (u32, &[u16]) = match ty {{");
+    let _ = write!(s, "{arms}");
+    let _ = writeln!(s, "    }};");
+    let _ = writeln!(s, "    match table.get(vr.checked_sub(min)? as usize) {{");
+    let _ = writeln!(
+        s,
+        "        Some(&i) if i != NO_VAR => Some(usize::from(i)),"
+    );
     let _ = writeln!(s, "        _ => None,");
     let _ = writeln!(s, "    }}");
     let _ = writeln!(s, "}}");
@@ -890,7 +936,20 @@ mod tests {
     fn enumerations_are_checked_and_read_as_integers() {
         let (table, _) = process(XML).expect("valid");
         // read and written with fmi2Get/SetInteger, items listed for the messages
-        assert!(table.contains("(VarType::Integer, 1010) => Some("));
+        assert!(table.contains("vr: 1010, ty: VarType::Integer"));
+        // and found as an Integer: entry 1010 - 1001 of the Integer table is a variable
+        assert!(table.contains("VarType::Integer => (1001, &INTEGER_INDEX)"));
+        let row = table
+            .lines()
+            .find(|l| l.starts_with("static INTEGER_INDEX"))
+            .expect("Integer table");
+        let list = &row[row.rfind('[').unwrap() + 1..row.rfind(']').unwrap()];
+        let entry = list
+            .split(',')
+            .map(str::trim)
+            .nth(1010 - 1001)
+            .expect("entry");
+        assert_ne!(entry, "NO_VAR", "{row}");
         assert!(table.contains("items: &[\"rest\", \"static_equilibrium\", \"periodic\"]"));
         assert!(table.contains("items: &[\"warn\", \"discard\"]"));
         rejects(

@@ -91,6 +91,35 @@ impl GearedRotorFmu {
 
     /// The value of output `var` at the current time; all outputs are computed once per
     /// time point.
+    /// [`Model::get`] for every variable (the cached outputs included).
+    #[inline(never)]
+    fn get_general(
+        &mut self,
+        var: &'static Variable,
+        phase: Phase,
+        exp: &Experiment,
+    ) -> Result<f64, BindingError> {
+        match var.causality {
+            Causality::Parameter | Causality::Input | Causality::Local | Causality::Independent => {
+                Ok(self.values[var.var as usize])
+            }
+            Causality::CalculatedParameter => {
+                if phase == Phase::InitializationMode {
+                    self.ensure_sim(exp)?;
+                }
+                let sim = self.sim.as_ref().ok_or_else(|| {
+                    BindingError::NotAvailable(format!(
+                        "{} is not available: the model was not initialised",
+                        var.name
+                    ))
+                })?;
+                values::calculated_value(sim.model().geometry(), var.var)
+                    .ok_or_else(|| BindingError::NotAvailable(format!("{} has no value", var.name)))
+            }
+            Causality::Output => self.output(var, phase, exp),
+        }
+    }
+
     fn output(
         &mut self,
         var: &'static Variable,
@@ -200,31 +229,22 @@ impl Model for GearedRotorFmu {
         }
     }
 
+    #[inline]
     fn get(
         &mut self,
         var: &'static Variable,
         phase: Phase,
         exp: &Experiment,
     ) -> Result<f64, BindingError> {
-        match var.causality {
-            Causality::Parameter | Causality::Input | Causality::Local | Causality::Independent => {
-                Ok(self.values[var.var as usize])
-            }
-            Causality::CalculatedParameter => {
-                if phase == Phase::InitializationMode {
-                    self.ensure_sim(exp)?;
-                }
-                let sim = self.sim.as_ref().ok_or_else(|| {
-                    BindingError::NotAvailable(format!(
-                        "{} is not available: the model was not initialised",
-                        var.name
-                    ))
-                })?;
-                values::calculated_value(sim.model().geometry(), var.var)
-                    .ok_or_else(|| BindingError::NotAvailable(format!("{} has no value", var.name)))
-            }
-            Causality::Output => self.output(var, phase, exp),
+        // An output of a point whose outputs are cached: an index (a master reads every
+        // output at every point; the general path is not inlined).
+        if var.causality == Causality::Output
+            && self.outputs_valid
+            && phase != Phase::InitializationMode
+        {
+            return Ok(self.output_values[var.var as usize]);
         }
+        self.get_general(var, phase, exp)
     }
 
     fn set(&mut self, var: &'static Variable, x: f64, stepping: bool) -> Result<(), BindingError> {

@@ -118,6 +118,23 @@ mod tests {
         }
     }
 
+    /// Every (type, value reference) that is not in the table is unknown: all value
+    /// references up to 3000 and a few far ones, of every type.
+    #[test]
+    fn lookup_refuses_what_the_table_does_not_hold() {
+        let far = [u32::MAX, u32::MAX - 1, 65_535, 65_536, 1 << 20];
+        for ty in [VarType::Real, VarType::Integer, VarType::Boolean] {
+            for vr in (0..3000).chain(far) {
+                let expected = VARIABLES.iter().find(|v| v.ty == ty && v.vr == vr);
+                assert_eq!(
+                    lookup(ty, vr).map(|v| v.name),
+                    expected.map(|v| v.name),
+                    "{ty:?} {vr}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn xml_has_guid_and_no_placeholder() {
         assert!(MODEL_DESCRIPTION_XML.contains(GUID));
