@@ -158,12 +158,14 @@ current load and speed. Formulas, sources, units and ranges: <a href="friction.m
 (<code>v_reg</code> [m/s]).</li>
 <li>Mean coefficient of ISO/TR 14179-2 (Schlenk's formula): <code>mu_mz</code> from the transverse load per face width,
 the sum speed and the equivalent radius of curvature at the pitch point, <code>eta_oil</code>, <code>Ra</code> and
-<code>X_L</code>.</li>
+<code>X_L</code>. Checked against a published worked example (the FZG C40 gear: mu_mz 0.0256, H_V 0.1986;
+friction.md).</li>
 <li>Local EHL coefficient along the lines (Xu, Kahraman, Anderson, Maddock 2007, fitted for a 75W90 gear oil) from the
 local Hertzian pressure, slide-to-roll ratio, entraining speed, radius of curvature, <code>eta_oil</code> and
 <code>Ra</code>; <code>E1</code>, <code>nu1</code>, <code>E2</code>, <code>nu2</code> give the Hertzian pressure.</li>
 </ol>
-<p>For laws 3 and 4 the coefficient depends on the contact force, which is then found by a scalar solve.</p>
+<p>For laws 3 and 4 the coefficient depends on the contact force, which is then found by a scalar solve. Law 4
+integrates mu_loc along every line (about 5 times the cost of law 1 per right-hand side).</p>
 <h2>Variables</h2>
 <p>Values in SI units as in modelDescription.xml; in brackets the same value in the display unit.
 min and max are the declared bounds (inclusive); 1e-300 stands for &ldquo;greater than 0&rdquo;.</p>
