@@ -60,62 +60,33 @@ fn main() {
 
 fn bench(params: Params) {
     let mut model = GearedRotor::new(params).expect("default parameters are valid");
-    model.set_inputs(Inputs {
-        omega1: 314.159,
-        ..Inputs::default()
-    });
-    let (ic, _) = model
-        .static_equilibrium(0.0, 0.0)
-        .expect("static equilibrium");
-    let y0 = model.initialize_with(0.0, &ic).expect("initial state");
-    let o = model.outputs(0.0, &y0);
+    // States spread over one mesh period so that every contact configuration is timed.
+    let still = states(&mut model, false);
+    let o = model.outputs(0.0, &still[0]);
     println!(
         "initial: lambda = {:.3} N, T1 = {:.4} N m, omega2 = {:.4}, l = {:.6} m, pairs = {}, u1 = {:?}",
         o.fn_, o.t1, o.omega2, o.contact_length, o.pairs_in_contact, o.u1
     );
-    // States spread over one mesh period so that every contact configuration is timed.
-    let states: Vec<SVector<f64, NY>> = (0..64)
-        .map(|i| {
-            let mut y = y0;
-            y[geared_rotor::rotor::idx::PHI1] = i as f64 * 2.0 * std::f64::consts::PI / 27.0 / 64.0;
-            y
-        })
-        .collect();
+    // The same states with axial vibration: sliding along the lines, y != 0, which law 4
+    // integrates with its axial-sliding rule.
+    let moving = states(&mut model, true);
     let mut f = SVector::<f64, NY>::zeros();
     let reps = 2000;
-    let per_call = time_per_call(200, reps, |r| {
-        let y = &states[r % states.len()];
-        model.rhs(0.0, black_box(y), &mut f).expect("rhs");
-        black_box(&f);
-    });
-    println!(
-        "rhs: median {:.1} ns per evaluation (200 x {reps} reps)",
-        per_call * 1e9
-    );
-    // The same states with axial vibration (u1z' = -u2z' = 0.05 m/s): sliding along the
-    // lines, y != 0, which law 4 integrates with its axial-sliding rule.
-    let moving: Vec<SVector<f64, NY>> = states
-        .iter()
-        .map(|y| {
-            let mut y = *y;
-            y[geared_rotor::rotor::idx::V + 2] = 0.05;
-            y[geared_rotor::rotor::idx::V + 5] = -0.05;
-            y
-        })
-        .collect();
-    let per_call = time_per_call(200, reps, |r| {
-        let y = &moving[r % moving.len()];
-        model.rhs(0.0, black_box(y), &mut f).expect("rhs");
-        black_box(&f);
-    });
-    println!(
-        "rhs with axial sliding: median {:.1} ns per evaluation (200 x {reps} reps)",
-        per_call * 1e9
-    );
+    for (label, ys) in [("rhs", &still), ("rhs with axial sliding", &moving)] {
+        let per_call = time_per_call(200, reps, |r| {
+            let y = &ys[r % ys.len()];
+            model.rhs(0.0, black_box(y), &mut f).expect("rhs");
+            black_box(&f);
+        });
+        println!(
+            "{label}: median {:.1} ns per evaluation (200 x {reps} reps)",
+            per_call * 1e9
+        );
+    }
     let mut jac = SMatrix::<f64, NY, NY>::zeros();
     let reps = 200;
     let per_call = time_per_call(100, reps, |r| {
-        let y = &states[r % states.len()];
+        let y = &still[r % still.len()];
         assert!(model.jacobian(0.0, black_box(y), &mut jac));
         black_box(&jac);
     });
@@ -125,7 +96,7 @@ fn bench(params: Params) {
     );
     let reps = 2000;
     let per_call = time_per_call(50, reps, |r| {
-        let y = &states[r % states.len()];
+        let y = &still[r % still.len()];
         black_box(model.consistent_lambda(0.0, black_box(y)).expect("lambda"));
     });
     println!(

@@ -4,7 +4,6 @@
 mod common;
 
 use common::alloc::count;
-use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
 use nalgebra::{SMatrix, SVector};
 
@@ -14,12 +13,7 @@ static GLOBAL: common::alloc::Counting = common::alloc::Counting;
 #[test]
 fn every_law_evaluates_without_allocation() {
     assert!(count(|| drop(std::hint::black_box(vec![1u8; 16]))) >= 1);
-    for law in [
-        FrictionLaw::Coulomb,
-        FrictionLaw::RegularisedCoulomb,
-        FrictionLaw::IsoMean,
-        FrictionLaw::LocalEhl,
-    ] {
+    for law in common::rotor::LAWS {
         for beta in [20f64.to_radians(), 0.0] {
             let mut p = Params {
                 friction_law: law,

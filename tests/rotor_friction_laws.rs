@@ -15,19 +15,12 @@ fn lg(rng: &mut common::rng::Rng, lo: f64, hi: f64) -> f64 {
 }
 
 use common::rng::Rng;
-use common::rotor::{driven, hidden_constraint, masses};
+use common::rotor::{driven, hidden_constraint, masses, LAWS};
 use geared_rotor::gear::{FrictionLaw, GearData, PairGeometry};
 use geared_rotor::rotor::{idx, GearedRotor, InitialConditions, Inputs, Params, NY};
 use geared_rotor::sim::{Simulation, SolverSettings};
 use nalgebra::{SVector, Vector3};
 use std::f64::consts::PI;
-
-const LAWS: [FrictionLaw; 4] = [
-    FrictionLaw::Coulomb,
-    FrictionLaw::RegularisedCoulomb,
-    FrictionLaw::IsoMean,
-    FrictionLaw::LocalEhl,
-];
 
 fn with_law(law: FrictionLaw) -> Params {
     Params {

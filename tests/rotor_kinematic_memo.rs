@@ -7,16 +7,10 @@
 mod common;
 
 use common::rng::Rng;
+use common::rotor::LAWS;
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{idx, GearedRotor, InitialConditions, Inputs, Outputs, Params, NY};
 use nalgebra::SVector;
-
-const LAWS: [FrictionLaw; 4] = [
-    FrictionLaw::Coulomb,
-    FrictionLaw::RegularisedCoulomb,
-    FrictionLaw::IsoMean,
-    FrictionLaw::LocalEhl,
-];
 
 fn model(law: FrictionLaw) -> GearedRotor {
     let mut m = GearedRotor::new(Params {

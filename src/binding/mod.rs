@@ -89,8 +89,6 @@ impl GearedRotorFmu {
         Ok(())
     }
 
-    /// The value of output `var` at the current time; all outputs are computed once per
-    /// time point.
     /// [`Model::get`] for every variable (the cached outputs included).
     #[inline(never)]
     fn get_general(
@@ -120,6 +118,8 @@ impl GearedRotorFmu {
         }
     }
 
+    /// The value of output `var` at the current time; all outputs are computed once per
+    /// time point.
     fn output(
         &mut self,
         var: &'static Variable,

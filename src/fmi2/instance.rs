@@ -39,8 +39,11 @@ pub struct Instance<M: Model> {
     pub panic_next_call: bool,
 }
 
+/// The variable of a value reference, or the error naming it (built only when needed:
+/// the error type is large, and every value reference of every Get/Set call comes here).
+#[inline]
 fn lookup<E>(func: &'static str, ty: VarType, vr: u32) -> Result<&'static Variable, FmuError<E>> {
-    variables::lookup(ty, vr).ok_or(FmuError::UnknownValueReference { func, vr })
+    variables::lookup(ty, vr).ok_or_else(|| FmuError::UnknownValueReference { func, vr })
 }
 
 impl<M: Model> Instance<M> {
@@ -279,9 +282,7 @@ impl<M: Model> Instance<M> {
         // One variable after the other, the error paths out of line (a master reads every
         // output at every point: this loop is part of the cost of a communication step).
         for (i, &vr) in vrs.iter().enumerate() {
-            let Some(var) = variables::lookup(ty, vr) else {
-                return Err(FmuError::UnknownValueReference { func, vr });
-            };
+            let var = lookup(func, ty, vr)?;
             match self.model.get(var, self.phase, &self.experiment) {
                 Ok(x) if x.is_finite() || var.causality != Causality::Output => out(i, x),
                 Ok(x) => return self.finite_output(func, var, x).map(|_| ()),

@@ -181,17 +181,18 @@ impl GearedRotor {
     /// # Errors
     /// Centre distance too small or non-finite displacements.
     pub fn mesh(&self, t: f64, y: &SVector<f64, NY>) -> Result<Mesh, ModelError> {
-        self.memo.mesh(y, true, || {
-            let u1 = Vector3::new(y[0], y[1], y[2]);
-            let u2 = Vector3::new(y[3], y[4], y[5]);
-            self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))
-        })
+        self.mesh_memo(t, y, true)
     }
 
     /// [`GearedRotor::mesh`] for the integrator's f and Jacobian: reads the memo, does
     /// not write it (see [`Asker::Integrator`]).
     fn mesh_for_f(&self, t: f64, y: &SVector<f64, NY>) -> Result<Mesh, ModelError> {
-        self.memo.mesh(y, false, || {
+        self.mesh_memo(t, y, false)
+    }
+
+    /// The mesh of y from the memo, or evaluated (and kept in it when `keep`).
+    fn mesh_memo(&self, t: f64, y: &SVector<f64, NY>, keep: bool) -> Result<Mesh, ModelError> {
+        self.memo.mesh(y, keep, || {
             let u1 = Vector3::new(y[0], y[1], y[2]);
             let u2 = Vector3::new(y[3], y[4], y[5]);
             self.geom.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))

@@ -1,7 +1,16 @@
 //! Set-up shared by the geared-rotor model tests.
 
+use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
 use nalgebra::{SVector, Vector3};
+
+/// Every friction law (docs/friction.md), in code order.
+pub const LAWS: [FrictionLaw; 4] = [
+    FrictionLaw::Coulomb,
+    FrictionLaw::RegularisedCoulomb,
+    FrictionLaw::IsoMean,
+    FrictionLaw::LocalEhl,
+];
 
 /// Diagonal of the mass matrix of the velocity block v = (u1', u2', phi2') (model.md §5):
 /// m1 three times, m2 three times, J2.
