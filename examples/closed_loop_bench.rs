@@ -26,7 +26,7 @@
 //! Run: `cargo run --release --example closed_loop_bench [repeats] [case-filter] [cpu]`
 //! (filter: a substring of the case names, or `=name,name` for exactly those cases;
 //! `BENCH_H=1e-4` or `1e-5` runs one communication step size only; `BENCH_OUTPUTS=T1`
-//! reads only that output (the others' cost by difference); `BENCH_JITTER=1` adds
+//! reads only that output (the others' cost by difference); `BENCH_LAW=4` runs friction law 4; `BENCH_JITTER=1` adds
 //! the machine's jitter floor next to `rt 2.5e-5 omega1`, see [`jitter_floor`]).
 
 use geared_rotor::c_abi::Instance;
@@ -118,6 +118,11 @@ impl Fmu {
             assert!(!c.is_null());
             assert_eq!(fmi2SetupExperiment(c, 1, 1e-6, 0.0, 0, 0.0), Fmi2Status::OK);
             assert_eq!(fmi2EnterInitializationMode(c), Fmi2Status::OK);
+            // BENCH_LAW=N: friction law N (Enumeration, value reference 1003).
+            if let Some(law) = std::env::var("BENCH_LAW").ok().and_then(|s| s.parse().ok()) {
+                let vr = 1003;
+                assert_eq!(fmi2SetInteger(c, &vr, 1, &law), Fmi2Status::OK);
+            }
             if h_fixed > 0.0 {
                 let vr = vr_of("h_fixed").expect("h_fixed");
                 assert_eq!(fmi2SetReal(c, &vr, 1, &h_fixed), Fmi2Status::OK);
