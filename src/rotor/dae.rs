@@ -474,6 +474,10 @@ impl GearedRotor {
     /// consistent (see above; r = 0 gives λ = 0).
     pub fn consistent_lambda(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, ModelError> {
         let m = self.mesh(t, y)?;
+        if self.params.friction_law.load_dependent() {
+            // The scalar solve evaluates the friction itself (from y's own lambda).
+            return self.consistent_lambda_solve(t, y, &m, None).map(|(l, _)| l);
+        }
         let sums = self.friction_sums(t, y, &m)?;
         self.consistent_lambda_with(t, y, &m, &sums)
     }
@@ -492,7 +496,7 @@ impl GearedRotor {
         sums: &FrictionSums,
     ) -> Result<f64, ModelError> {
         if self.params.friction_law.load_dependent() {
-            return self.consistent_lambda_solve(t, y, m);
+            return self.consistent_lambda_solve(t, y, m, None).map(|(l, _)| l);
         }
         let g = &self.geom;
         let m = *m;
@@ -664,6 +668,9 @@ impl GearedRotor {
     /// decided ([`GearedRotor::consistent_lambda`]; else the lambda of y), evaluating the
     /// mesh and the friction sums once for both (they do not depend on lambda).
     pub fn outputs_consistent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
+        if self.params.friction_law.load_dependent() {
+            return self.outputs_consistent_load_dependent(t, y);
+        }
         let res = self.mesh(t, y).and_then(|m| {
             self.friction(t, y, &m, y[idx::LAMBDA], Asker::Outputs)
                 .map(|(s, mu)| (m, s, mu))
@@ -676,13 +683,27 @@ impl GearedRotor {
                 }
             }
         }
-        // Laws 3 and 4: the friction follows the new lambda.
-        let res = match res {
-            Ok((m, _, _)) if self.params.friction_law.load_dependent() => self
-                .friction(t, &z, &m, z[idx::LAMBDA], Asker::Outputs)
-                .map(|(s, mu)| (m, s, mu)),
-            r => r,
-        };
+        self.outputs_with(&z, res)
+    }
+
+    /// [`GearedRotor::outputs_consistent`] for laws 3 and 4, where the friction follows
+    /// lambda: the scalar solve starts from y's own lambda with the friction evaluated
+    /// there and returns the friction at its root, which the outputs then use.
+    fn outputs_consistent_load_dependent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
+        let res = self.mesh(t, y).and_then(|m| {
+            self.friction(t, y, &m, y[idx::LAMBDA], Asker::Outputs)
+                .map(|(s, mu)| (m, s, mu))
+        });
+        let mut z = *y;
+        let res = res.map(|(m, sums, mu)| {
+            match self.consistent_lambda_solve(t, y, &m, Some((sums, mu))) {
+                Ok((l, (s, mu_l))) if l.is_finite() => {
+                    z[idx::LAMBDA] = l;
+                    (m, s, mu_l)
+                }
+                _ => (m, sums, mu),
+            }
+        });
         self.outputs_with(&z, res)
     }
 

@@ -71,17 +71,15 @@ impl GearedRotor {
             }
         };
         // m is the mesh of y, so the sums of laws 1-3 are a function of the memo's key;
-        // law 4's depend on lambda (line load).
-        let s = match self.params.friction_law {
-            FrictionLaw::LocalEhl => g.friction_sums_line(m, phi1, psi0, &k, &line),
-            law => {
-                let variant = u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb);
-                let keep = asker != Asker::Integrator;
-                self.memo.sums(y, variant, keep, || {
-                    g.friction_sums_line(m, phi1, psi0, &k, &line)
-                })
-            }
+        // law 4's depend on lambda too (the line load): its bits are the variant.
+        let variant = match self.params.friction_law {
+            FrictionLaw::LocalEhl => lam.to_bits(),
+            law => u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb),
         };
+        let keep = asker != Asker::Integrator;
+        let s = self.memo.sums(y, variant, keep, || {
+            g.friction_sums_line(m, phi1, psi0, &k, &line)
+        });
         if !(s.contact.length > 0.0) {
             return Err(ModelError::NoContact { t });
         }
@@ -131,9 +129,16 @@ impl GearedRotor {
     /// Consistent lambda for the load-dependent laws 3 and 4: the hidden
     /// constraint reads `h(lambda) = lambda A + G M^-1 Q_f(lambda) - r = 0` with A, r as
     /// in [`GearedRotor::consistent_lambda`]; Q_f uses |lambda| itself, so any root is
-    /// consistent (no sign assumption). Secant iteration from the frictionless
-    /// `r / A` and its friction-linearised correction, until the step is below 2 ulp:
-    /// the residual is then at round-off. Typically 4-6 friction evaluations.
+    /// consistent (no sign assumption). Secant iteration until the step is below 2 ulp
+    /// (the residual is then at round-off). It starts from the lambda of y when that has
+    /// the sign of r (at a communication point the integrator's lambda is already within
+    /// ~rtol of the root: typically 3 friction evaluations instead of 4-6 from the
+    /// frictionless `r / A`), else from `r / A`; the second point is the
+    /// friction-linearised correction of the first. `at_y`: the friction of y at its own
+    /// lambda when the caller has it (the first evaluation is then free).
+    ///
+    /// Returns lambda and the friction evaluated at it (the last iterate, within 2 ulp of
+    /// the root), so that outputs at the consistent state need no further evaluation.
     ///
     /// # Errors
     /// Mesh/contact errors; [`ModelError::InconsistentLambda`] when the iteration does
@@ -143,7 +148,8 @@ impl GearedRotor {
         t: f64,
         y: &SVector<f64, NY>,
         m: &Mesh,
-    ) -> Result<f64, ModelError> {
+        at_y: Option<(FrictionSums, f64)>,
+    ) -> Result<(f64, (FrictionSums, f64)), ModelError> {
         let g = &self.geom;
         let grow = g.constraint_row(m);
         let kin = kinematics(y);
@@ -159,50 +165,57 @@ impl GearedRotor {
             r -= grow[i] * force / self.mass[i];
         }
         r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(m, &kin);
-        let h = |lam: f64| -> Result<f64, ModelError> {
-            let (s, mu) = self.friction(t, y, m, lam, Asker::Point)?;
-            let fr = s.resultants(mu, lam);
-            let q = [
-                fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
-            ];
+        // h(lambda) and the friction evaluated for it.
+        let residual = |lam: f64, fr: (FrictionSums, f64)| -> (f64, (FrictionSums, f64)) {
+            let q = fr.0.resultants(fr.1, lam);
+            let q = [q.f1.x, q.f1.y, q.f1.z, q.f2.x, q.f2.y, q.f2.z, -q.m2.z];
             let mut phi = 0.0;
             for i in 0..7 {
                 phi += grow[i] * q[i] / self.mass[i];
             }
-            Ok(lam * a + phi - r)
+            (lam * a + phi - r, fr)
         };
+        let h = |lam: f64| -> Result<(f64, (FrictionSums, f64)), ModelError> {
+            Ok(residual(lam, self.friction(t, y, m, lam, Asker::Point)?))
+        };
+        let lam_y = y[idx::LAMBDA];
         if r == 0.0 {
-            return Ok(0.0);
+            return Ok((0.0, self.friction(t, y, m, 0.0, Asker::Point)?));
         }
-        let mut l0 = r / a;
-        let mut h0 = h(l0)?;
+        let from_y = lam_y.is_finite() && lam_y * r > 0.0;
+        let mut l0 = if from_y { lam_y } else { r / a };
+        let (mut h0, first) = match at_y {
+            Some(fr) if from_y => residual(l0, fr),
+            _ => h(l0)?,
+        };
         if h0 == 0.0 {
-            return Ok(l0);
+            return Ok((l0, first));
         }
-        // h(l0) = phi(l0): friction as an effective slope phi(l0)/l0.
-        let mut l1 = r / (a + h0 / l0);
+        // h(l0) = l0 A + phi(l0) - r: friction as an effective slope phi(l0)/l0.
+        let mut l1 = r / (a + (h0 + r - l0 * a) / l0);
         for _ in 0..60 {
-            let h1 = h(l1)?;
+            let (h1, e1) = h(l1)?;
             if h1 == 0.0 {
-                return Ok(l1);
+                return Ok((l1, e1));
             }
             let slope = (h1 - h0) / (l1 - l0);
             if !(slope.is_finite() && slope != 0.0) {
                 // h flat to round-off between two iterates that already agree.
                 if (l1 - l0).abs() <= 1e-12 * l1.abs() {
-                    return Ok(l1);
+                    return Ok((l1, e1));
                 }
                 break;
             }
             let l2 = l1 - h1 / slope;
-            (l0, h0) = (l1, h1);
-            l1 = l2;
-            if !l1.is_finite() {
+            if !l2.is_finite() {
                 break;
             }
-            if (l1 - l0).abs() <= 2.0 * f64::EPSILON * l1.abs() {
-                return Ok(l1);
+            if (l2 - l1).abs() <= 2.0 * f64::EPSILON * l2.abs() {
+                // l1 is within 2 ulp of the root, and its friction is at hand.
+                return Ok((l1, e1));
             }
+            (l0, h0) = (l1, h1);
+            l1 = l2;
         }
         Err(ModelError::InconsistentLambda {
             t,

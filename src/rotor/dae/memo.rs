@@ -7,7 +7,10 @@
 //! evaluation. The mesh depends on the displacements only; the sums of laws 1-3 on the
 //! displacements, phi1 and the velocities (not on lambda, the inputs or the time), so a
 //! memo keyed by the bits of those components returns exactly what a new evaluation
-//! would (law 4 depends on lambda through the line load and is not memoised). Only the
+//! would; law 4's depend on lambda as well (the line load), which its key adds. For law
+//! 4 the memo also links the scalar solve of the consistent lambda to what follows it:
+//! the outputs at the root, and the stepper's f after an input change at the same
+//! state and lambda. Only the
 //! evaluations at a communication point (consistent lambda, outputs) are kept; the
 //! integrator's stages and Jacobian columns read the memo but do not write it. Not part of
 //! any state: a pure cache (the parameters it depends on - geometry, psi0, the law and
@@ -80,8 +83,8 @@ impl KinematicMemo {
         Ok(m)
     }
 
-    /// The friction sums of y (`variant` tells apart sums of the same state that differ,
-    /// e.g. with law 2's mean coefficient integrated for the outputs): from the memo or
+    /// The friction sums of y (`variant` tells apart sums of the same state that differ:
+    /// law 2's mean coefficient integrated for the outputs, law 4's lambda): from the memo or
     /// from `eval` (kept when `keep`).
     pub(super) fn sums(
         &self,
