@@ -433,9 +433,7 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         let y = match i % 4 {
             // as in a run: delta = |y / kappa| log-uniform from 1e-6 to 3e-2 of the
             // larger far end (the bearings' and the transmission error's small sliding)
-            _ if i >= 2000 => {
-                rng.sign() * kappa * ends[0].max(ends[1]) * lg(&mut rng, 1e-6, 3e-2)
-            }
+            _ if i >= 2000 => rng.sign() * kappa * ends[0].max(ends[1]) * lg(&mut rng, 1e-6, 3e-2),
             0 => 0.0,
             1 => rng.sym(1.0) * 10f64.powi(-3 - (i % 9) as i32),
             2 => rng.sym(1e-2),

@@ -22,20 +22,31 @@
 //!   d = +-i delta; on [near, min(far, 8 delta)] d = delta sinh u makes the integrands
 //!   analytic in the strip |Im u| < pi/2, 16-point Gauss-Legendre in u, 10 points when
 //!   the panel spans at most 1 in u (16 points over 2 in u fail: a panel to 16 delta or
-//!   beyond; 12 points to 8 delta fail too).
+//!   beyond; 12 points to 8 delta fail too), fewer where 8 delta is a small fraction of
+//!   far (below).
 //! - The rest [h0 or 8 delta, far]: Gauss-Legendre panels [a, 4a] from the far end down
 //!   (the branch points at 0 and +-i delta <= a stay outside the ellipse rho = 3),
 //!   no longer than their distance from the ends of the line of action (R = 0 there);
 //!   10 points, 8 where a panel spans at most [a, 2a] (rho >= 5.8). 8 points on [a, 4a]
 //!   fail the line test; ratio 5 leaves the pair test at 2.5e-11.
+//! - Nodes by share: a panel whose upper end lies at q times the piece's far end holds
+//!   a share ~q^2 of the piece's integrals (mu ~ d^b3), so its relative error may be
+//!   ~1/q^2 larger. The panels near the far end keep the counts above; deeper ones get
+//!   8, 6, 4, 2 (graded) or 10, 8, 6, 4 (sinh panel) nodes (`GRADED_NODES`,
+//!   `SINH_NODES`: thresholds from the Gauss error rho^-2n, with a margin). This is what
+//!   makes a run cheap: there the bearings and the transmission error give the lines a
+//!   small axial sliding, delta ~ 1e-5 far, and every piece takes the sinh panel and
+//!   ~7 graded panels (86 nodes at delta = 1e-5 far with 10 nodes each, 58 now).
 //!
 //! Each panel evaluates its nodes together (`EhlLine::exp_ln_mu_batch`): one loop per
 //! elementary function, with the vectorised `ln` and `exp` of `batch_math`.
 //!
 //! Accuracy against adaptive quadrature of the local law (`tests/gear_friction_laws.rs`,
-//! 2000 random lines, 3/4 of them with axial sliding from 1e-11 to 0.3 m/s): worst
-//! 9.8e-13 (y = 0) and 1.8e-11 (y != 0, the 3e-6 switch above) of the natural scale of
-//! each integral. No allocation.
+//! 3000 random lines, 3/4 of the first 2000 with axial sliding from 1e-11 to 0.3 m/s and
+//! 1000 with run-like axial sliding, delta log-uniform from 1e-6 to 3e-2 of the far end):
+//! worst 9.8e-13 (y = 0), 1.8e-11 (y != 0) and 4.6e-11 (run-like; both at the 3e-6
+//! switch above) of the natural scale of each integral; pieces on the sinh path alone
+//! 7e-12. No allocation.
 
 use super::{batch_math, EhlLine, XU_B};
 use crate::gear::friction::LineIntegrals;
@@ -67,6 +78,42 @@ const SINH_RULE_SHORT: Rule<10> = Rule::new(GL10_X, GL10_W);
 /// Longest sinh panel (in u) that gets [`SINH_RULE_SHORT`]: the strip |Im u| < pi/2
 /// gives rho = 6.4 for it (u = 2 fails the line test, 1.5 passes; 1 keeps a margin).
 const SINH_U_SHORT: f64 = 1.0;
+/// The Gauss-Legendre rules of the panels near the root, where a panel holds a small
+/// share of the piece (see [`share_nodes`]).
+const GL6_RULE: Rule<6> = Rule::new(GL6_X, GL6_W);
+const GL4_RULE: Rule<4> = Rule::new(GL4_X, GL4_W);
+const GL2_RULE: Rule<2> = Rule::new(GL2_X, GL2_W);
+/// Nodes of a graded panel [a, 4a] by q = 4a / far, its upper end as a fraction of the
+/// piece's far end: the first entry whose q_min < q. Over [0, q far] the integrands hold a
+/// share ~q^2 of the piece (mu ~ d^b3 and the x-integrals ~ d^(1+b3); the y-integral
+/// ~ delta d with delta < d), so the relative error of such a panel may be ~1/q^2 larger
+/// than at the far end. Two nodes fewer multiply a panel's error by rho^4 = 81 (rho = 3),
+/// so q_min steps by 9; the first step lies one further factor 9 down, for the smooth
+/// factor of mu, which can be larger near the root than at the far end (exp(b5 e^-z) up
+/// to e^b5 = 17 where z -> 0). Without that margin the line test fails.
+const GRADED_NODES: [(f64, usize); 4] = [
+    (1.0 / 9.0, 10),
+    (1.0 / 81.0, 8),
+    (1.0 / 729.0, 6),
+    (1.0 / 6561.0, 4),
+];
+/// Nodes of the sinh panel [near, 8 delta] by q = 8 delta / far (the same share argument
+/// as [`GRADED_NODES`]): its span of asinh 8 = 2.8 in u has rho = 2.64 in the strip
+/// |Im u| < pi/2 (two nodes fewer: error x 49); the thresholds keep a factor 10 in q
+/// beyond the estimate.
+const SINH_NODES: [(f64, usize); 4] = [(1e-2, 16), (1e-3, 10), (1e-4, 8), (1e-5, 6)];
+
+/// The node count of a panel whose upper end lies at q times the piece's far end: that
+/// of the first entry of `table` with q_min < q, else `fewest`.
+fn share_nodes(table: &[(f64, usize); 4], q: f64, fewest: usize) -> usize {
+    for &(q_min, n) in table {
+        if q > q_min {
+            return n;
+        }
+    }
+    fewest
+}
+
 /// Pieces that start closer to the root than this fraction of the root panel get the
 /// Gauss-Jacobi panel; farther ones only graded panels (a piece away from the pitch line
 /// then needs one panel instead of two Gauss-Jacobi panels).
@@ -201,7 +248,7 @@ impl Line<'_> {
             // Axial sliding: r = sqrt(kappa^2 d^2 + y^2) has branch points at d = +-i delta.
             let hi = far.min(SINH_SPAN * delta);
             if near < hi {
-                self.sinh_panel(acc, root, dir, near, hi, delta);
+                self.sinh_panel(acc, root, dir, near, hi, delta, hi / far);
                 hi
             } else {
                 near
@@ -222,10 +269,16 @@ impl Line<'_> {
                 a = hi - room.max(1e-3 * far);
             }
             let s0 = if dir > 0.0 { root + a } else { root - hi };
+            let mut nodes = share_nodes(&GRADED_NODES, hi / far, 2);
             if hi <= 2.0 * a {
-                self.legendre(acc, s0, hi - a, &PANEL_RULE_SHORT);
-            } else {
-                self.legendre(acc, s0, hi - a, &PANEL_RULE);
+                nodes = nodes.min(8);
+            }
+            match nodes {
+                10 => self.legendre(acc, s0, hi - a, &PANEL_RULE),
+                8 => self.legendre(acc, s0, hi - a, &PANEL_RULE_SHORT),
+                6 => self.legendre(acc, s0, hi - a, &GL6_RULE),
+                4 => self.legendre(acc, s0, hi - a, &GL4_RULE),
+                _ => self.legendre(acc, s0, hi - a, &GL2_RULE),
             }
             hi = a;
         }
@@ -322,13 +375,20 @@ impl Line<'_> {
 
     /// y != 0: `int_lo^hi` (hi <= SINH_SPAN delta) in d = delta sinh u by Gauss-Legendre in
     /// u (inside the strip |Im u| < pi/2 of analyticity).
-    fn sinh_panel(&self, acc: &mut Acc, root: f64, dir: f64, lo: f64, hi: f64, delta: f64) {
+    #[allow(clippy::too_many_arguments)]
+    fn sinh_panel(&self, acc: &mut Acc, root: f64, dir: f64, lo: f64, hi: f64, delta: f64, q: f64) {
         let (u0, u1) = ((lo / delta).asinh(), (hi / delta).asinh());
         let hu = u1 - u0;
+        let mut nodes = share_nodes(&SINH_NODES, q, 4);
         if hu <= SINH_U_SHORT {
-            self.sinh_rule(acc, root, dir, u0, hu, delta, &SINH_RULE_SHORT);
-        } else {
-            self.sinh_rule(acc, root, dir, u0, hu, delta, &SINH_RULE);
+            nodes = nodes.min(10);
+        }
+        match nodes {
+            16 => self.sinh_rule(acc, root, dir, u0, hu, delta, &SINH_RULE),
+            10 => self.sinh_rule(acc, root, dir, u0, hu, delta, &SINH_RULE_SHORT),
+            8 => self.sinh_rule(acc, root, dir, u0, hu, delta, &PANEL_RULE_SHORT),
+            6 => self.sinh_rule(acc, root, dir, u0, hu, delta, &GL6_RULE),
+            _ => self.sinh_rule(acc, root, dir, u0, hu, delta, &GL4_RULE),
         }
     }
 

@@ -2,6 +2,8 @@
 //!
 //! Computed by the Golub-Welsch method (the Stieltjes recurrence from the exact moments,
 //! then the eigenvalues of the Jacobi matrix) in 120-digit arithmetic and rounded to 25
+//! digits; the Gauss-Legendre rules of 2, 4 and 6 points by Newton's method on the
+//! Legendre polynomial (three-term recurrence) in 60-digit arithmetic, also rounded to 25
 //! digits. Gauss-Legendre: weight 1 (the weights sum to 1). Gauss-Jacobi: weight
 //! `u^(b3 - 1)` with b3 = 1.036077 of [`super::XU_B`] (the weights sum to 1/b3), exact for
 //! `u^(b3 - 1) g(u)` with g of degree <= 2n - 1.
@@ -106,6 +108,48 @@ pub(super) const GJ12_W: [f64; 12] = [
     0.02351240547263129663011324,
 ];
 
+/// Nodes of the 2-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL2_X: [f64; 2] = [0.2113248654051871177454256, 0.7886751345948128822545744];
+/// Weights of the 2-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL2_W: [f64; 2] = [0.5000000000000000000000000, 0.5000000000000000000000000];
+/// Nodes of the 4-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL4_X: [f64; 4] = [
+    0.06943184420297371238802676,
+    0.3300094782075718675986671,
+    0.6699905217924281324013329,
+    0.9305681557970262876119732,
+];
+/// Weights of the 4-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL4_W: [f64; 4] = [
+    0.1739274225687269286865320,
+    0.3260725774312730713134680,
+    0.3260725774312730713134680,
+    0.1739274225687269286865320,
+];
+/// Nodes of the 6-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL6_X: [f64; 6] = [
+    0.03376524289842398609384922,
+    0.1693953067668677431693002,
+    0.3806904069584015456847491,
+    0.6193095930415984543152509,
+    0.8306046932331322568306998,
+    0.9662347571015760139061508,
+];
+/// Weights of the 6-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL6_W: [f64; 6] = [
+    0.08566224618958517252014807,
+    0.1803807865240693037849168,
+    0.2339569672863455236949352,
+    0.2339569672863455236949352,
+    0.1803807865240693037849168,
+    0.08566224618958517252014807,
+];
 /// Nodes of the 8-point Gauss-Legendre.
 #[allow(clippy::excessive_precision)]
 pub(super) const GL8_X: [f64; 8] = [
@@ -224,6 +268,9 @@ mod tests {
             check(&GJ8_X, &GJ8_W, beta),
             check(&GJ10_X, &GJ10_W, beta),
             check(&GJ12_X, &GJ12_W, beta),
+            check(&GL2_X, &GL2_W, 0.0),
+            check(&GL4_X, &GL4_W, 0.0),
+            check(&GL6_X, &GL6_W, 0.0),
             check(&GL8_X, &GL8_W, 0.0),
             check(&GL10_X, &GL10_W, 0.0),
             check(&GL16_X, &GL16_W, 0.0),
