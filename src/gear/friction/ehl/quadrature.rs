@@ -142,6 +142,10 @@ const RATIO: f64 = 4.0;
 /// DELTA_EXPANSION h0) is integrated by the expansion in delta on that panel: the terms
 /// it leaves out are ~(delta / h0)^3 of the integrals.
 const DELTA_EXPANSION: f64 = 1e-4;
+/// Axial sliding below this fraction of the Gauss-Jacobi panel changes its integrals by
+/// less than ~30 (delta / dmax)^2 = 3e-15 (the largest term of the expansion, the
+/// first-order term of mu): the y = 0 integrals are taken as they are.
+const DELTA_NEGLIGIBLE: f64 = 1e-8;
 /// A piece that does not start at the root takes the expansion only when it starts at
 /// least this many delta from it (the expansion of [0, near] needs delta << near).
 const NEAR_EXPANSION: f64 = 100.0;
@@ -402,12 +406,17 @@ impl Line<'_> {
             sigma[i] = self.sigma0 - sb * s[i];
         }
         let extra = [b[2] * ak.ln(); N];
-        let (g, z, ez) = self.e.exp_ln_mu_batch_z(&sigma, &r, &extra);
-        for i in 0..N {
-            acc.add(s[i], x[i], r[i], scale * rule.w[i] * d[i] * g[i]);
-        }
-        if delta > 0.0 {
+        if delta > DELTA_NEGLIGIBLE * dmax {
+            let (g, z, ez) = self.e.exp_ln_mu_batch_z(&sigma, &r, &extra);
+            for i in 0..N {
+                acc.add(s[i], x[i], r[i], scale * rule.w[i] * d[i] * g[i]);
+            }
             self.axial_sliding_terms(acc, panel, &d, &s, (&g, &z, &ez), w2);
+        } else {
+            let g = self.e.exp_ln_mu_batch(&sigma, &r, &extra);
+            for i in 0..N {
+                acc.add(s[i], x[i], r[i], scale * rule.w[i] * d[i] * g[i]);
+            }
         }
     }
 
