@@ -28,10 +28,11 @@
 //! gear oils; elsewhere it is an extrapolation (V_e is floored at [`V_E_MIN`]).
 //!
 //! Quadrature: see [`quadrature`] (split at the pitch line, an 8- to 12-point
-//! Gauss-Jacobi panel for the weight d^(b3-1) there, a sinh map across the branch points
-//! of axial sliding, graded 8- or 10-point Gauss-Legendre panels beyond; the nodes of a
-//! panel evaluated together with vectorised `ln`/`exp`; 1e-11 against adaptive
-//! quadrature). Spur lines (sigma constant along the line) need one evaluation of mu.
+//! Gauss-Jacobi panel for the weight d^(b3-1) there, with an expansion in the axial
+//! sliding where it is small (as in a run), a sinh map across the branch points of larger
+//! axial sliding, graded Gauss-Legendre panels beyond, with fewer nodes where a panel's
+//! share of the integrals is small; the nodes of a panel evaluated together with
+//! vectorised `ln`/`exp`; 1e-11 against adaptive quadrature). Spur lines (sigma constant along the line) need one evaluation of mu.
 //! No allocation.
 
 use super::LineIntegrals;
