@@ -1,10 +1,15 @@
 //! Benchmark (not a test): median time of one f(t, y) and one Jacobian evaluation for the
 //! default pair, per friction law (1 Coulomb, 2 regularised, 3 ISO/TR 14179-2 mean, 4 local
 //! EHL), and of one consistent lambda (a closed form for laws 1-2, a scalar solve for 3-4).
+//! Three sets of states over one mesh period: the static equilibrium at 64 phases (`rhs`),
+//! the same with an imposed axial vibration (`rhs_moving`), and 64 states of a simulated
+//! run (`rhs_run`, see [`run_states`]), whose small axial sliding from the bearings and the
+//! transmission error is what law 4's quadrature meets in practice.
 //! Run: `cargo run --release --example gear_bench`.
 
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{GearedRotor, Inputs, Params, NY};
+use geared_rotor::sim::{Simulation, SolverSettings};
 use nalgebra::{SMatrix, SVector};
 use std::hint::black_box;
 use std::time::Instant;
@@ -29,7 +34,9 @@ fn time_per_call(rounds: usize, reps: usize, mut f: impl FnMut(usize)) -> f64 {
 
 fn main() {
     // `gear_bench count LAW WHAT N`: exactly N evaluations (WHAT = rhs, rhs_moving,
-    // jacobian or lambda, the consistent lambda) for instruction counting (valgrind --tool=callgrind), no timing.
+    // rhs_run, jacobian or lambda, the consistent lambda) for instruction counting
+    // (valgrind --tool=callgrind), no timing. rhs_run simulates its states first: count
+    // with N and 0 and take the difference.
     let args: Vec<String> = std::env::args().collect();
     if args.len() == 5 && args[1] == "count" {
         let law = FrictionLaw::from_code(args[2].parse().expect("law code")).expect("law 1-4");
@@ -70,9 +77,14 @@ fn bench(params: Params) {
     // The same states with axial vibration: sliding along the lines, y != 0, which law 4
     // integrates with its axial-sliding rule.
     let moving = states(&mut model, true);
+    let run = run_states(params);
     let mut f = SVector::<f64, NY>::zeros();
     let reps = 2000;
-    for (label, ys) in [("rhs", &still), ("rhs with axial sliding", &moving)] {
+    for (label, ys) in [
+        ("rhs", &still),
+        ("rhs with axial sliding", &moving),
+        ("rhs on run states", &run),
+    ] {
         let per_call = time_per_call(200, reps, |r| {
             let y = &ys[r % ys.len()];
             model.rhs(0.0, black_box(y), &mut f).expect("rhs");
@@ -108,7 +120,7 @@ fn bench(params: Params) {
 /// The default state over one mesh period (64 phases), optionally with axial vibration.
 fn states(model: &mut GearedRotor, moving: bool) -> Vec<SVector<f64, NY>> {
     model.set_inputs(Inputs {
-        omega1: 314.159,
+        omega1: OMEGA1,
         ..Inputs::default()
     });
     let (ic, _) = model
@@ -128,9 +140,43 @@ fn states(model: &mut GearedRotor, moving: bool) -> Vec<SVector<f64, NY>> {
         .collect()
 }
 
+/// Operating speed of the runs (rad/s) and the mesh period at it (27 teeth on gear 1).
+const OMEGA1: f64 = 314.159;
+
+/// 64 states over one mesh period of a simulated run of the pair (from rest at OMEGA1,
+/// T_load = 0, RADAU5 at the FMU's default rtol 1e-6 and h_max 1e-4 s), after 0.2 s: the
+/// bearings and the transmission error then move the gears a little, so the lines carry a
+/// small axial sliding (y != 0, far below the sliding at the tips), as in every real run.
+fn run_states(params: Params) -> Vec<SVector<f64, NY>> {
+    let settings = SolverSettings {
+        rtol: 1e-6,
+        h_max: 1e-4,
+    };
+    let mut sim = Simulation::new(params, settings, 0.0, OMEGA1, 0.0).expect("start");
+    let t_settle = 0.2;
+    sim.do_step(0.0, t_settle).expect("settle");
+    let period = 2.0 * std::f64::consts::PI / (27.0 * OMEGA1);
+    let mut t = t_settle;
+    (0..64)
+        .map(|_| {
+            sim.do_step(t, period / 64.0).expect("step");
+            t = sim.time();
+            *sim.y()
+        })
+        .collect()
+}
+
 fn count(params: Params, what: &str, n: usize) {
     let mut model = GearedRotor::new(params).expect("default parameters are valid");
-    let ys = states(&mut model, what == "rhs_moving");
+    let ys = if what == "rhs_run" {
+        model.set_inputs(Inputs {
+            omega1: OMEGA1,
+            ..Inputs::default()
+        });
+        run_states(params)
+    } else {
+        states(&mut model, what == "rhs_moving")
+    };
     let mut f = SVector::<f64, NY>::zeros();
     let mut jac = SMatrix::<f64, NY, NY>::zeros();
     for r in 0..n {

@@ -402,7 +402,11 @@ fn law4_line_integrals_match_adaptive_quadrature() {
     let lub = fp.lubricant();
     let mut worst: f64 = 0.0;
     let mut worst_y: f64 = 0.0;
-    for i in 0..2000u32 {
+    // worst over the lines of run-like axial sliding (the cases from 2000 on) and how many
+    // of their pieces have 3e-6 <= delta/far <= 1e-2
+    let mut worst_run: f64 = 0.0;
+    let mut run_pieces = 0;
+    for i in 0..3000u32 {
         // a line of the default pair's size: sigma in the active part of the line of action
         let lt = 0.026;
         let beta_b: f64 = if i.is_multiple_of(7) { 0.0 } else { 0.33 };
@@ -423,7 +427,13 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         let x0 = -omega.1 * lt + (omega.0 + omega.1) * sigma0 + jitter;
         // axial sliding from none over tiny (both sides of the quadrature's switch at
         // delta = 3e-6 d_far) to a third of the sliding at the tips
+        let root = x0 / kappa;
+        // distances of the two ends from the pitch line (the far ends of the pieces)
+        let ends = [root.abs(), (len - root).abs()];
         let y = match i % 4 {
+            // as in a run: delta = |y / kappa| log-uniform from 1e-6 to 3e-2 of the
+            // larger far end (the bearings' and the transmission error's small sliding)
+            _ if i >= 2000 => rng.sign() * kappa * ends[0].max(ends[1]) * lg(&mut rng, 1e-6, 3e-2),
             0 => 0.0,
             1 => rng.sym(1.0) * 10f64.powi(-3 - (i % 9) as i32),
             2 => rng.sym(1e-2),
@@ -460,7 +470,21 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         let mut err = rel_err(&li, &r, len, w_scale / 0.1) / 0.1;
         err = err.max((mu_int - r[5]).abs() / (0.1 * len));
         assert!(err.is_finite(), "case {i}: {li:?} {mu_int} vs {r:?}");
-        if y == 0.0 {
+        if i >= 2000 {
+            worst_run = worst_run.max(err);
+            let delta = (y / kappa).abs();
+            // the pieces' far ends: both ends when the pitch line lies inside the segment
+            let fars = if root > 0.0 && root < len {
+                ends
+            } else {
+                [ends[0].max(ends[1]); 2]
+            };
+            let n_pieces = if root > 0.0 && root < len { 2 } else { 1 };
+            run_pieces += fars[..n_pieces]
+                .iter()
+                .filter(|&&d| (3e-6..=1e-2).contains(&(delta / d)))
+                .count();
+        } else if y == 0.0 {
             worst = worst.max(err);
         } else {
             worst_y = worst_y.max(err);
@@ -471,8 +495,9 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         );
     }
     println!(
-        "law 4: line integrals against adaptive quadrature: worst {worst:.2e} (y = 0), {worst_y:.2e} (axial sliding y != 0)"
+        "law 4: line integrals against adaptive quadrature: worst {worst:.2e} (y = 0), {worst_y:.2e} (axial sliding y != 0), {worst_run:.2e} (run-like axial sliding, {run_pieces} pieces with 3e-6 <= delta/far <= 1e-2)"
     );
+    assert!(run_pieces >= 700, "{run_pieces}");
 }
 
 #[test]

@@ -28,10 +28,11 @@
 //! gear oils; elsewhere it is an extrapolation (V_e is floored at [`V_E_MIN`]).
 //!
 //! Quadrature: see [`quadrature`] (split at the pitch line, an 8- to 12-point
-//! Gauss-Jacobi panel for the weight d^(b3-1) there, a sinh map across the branch points
-//! of axial sliding, graded 8- or 10-point Gauss-Legendre panels beyond; the nodes of a
-//! panel evaluated together with vectorised `ln`/`exp`; 1e-11 against adaptive
-//! quadrature). Spur lines (sigma constant along the line) need one evaluation of mu.
+//! Gauss-Jacobi panel for the weight d^(b3-1) there, with an expansion in the axial
+//! sliding where it is small (as in a run), a sinh map across the branch points of larger
+//! axial sliding, graded Gauss-Legendre panels beyond, with fewer nodes where a panel's
+//! share of the integrals is small; the nodes of a panel evaluated together with
+//! vectorised `ln`/`exp`; 1e-11 against adaptive quadrature). Spur lines (sigma constant along the line) need one evaluation of mu.
 //! No allocation.
 
 use super::LineIntegrals;
@@ -164,6 +165,19 @@ impl EhlLine {
         r: &[f64; N],
         extra: &[f64; N],
     ) -> [f64; N] {
+        self.exp_ln_mu_batch_z(sigma, r, extra).0
+    }
+
+    /// [`EhlLine::exp_ln_mu_batch`] and, per node, z = SR P_h log10(nu0) and e^-z (for
+    /// `d ln mu / d ln r = b3 + (b4 - b5 e^-z) z` at fixed sigma).
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn exp_ln_mu_batch_z<const N: usize>(
+        &self,
+        sigma: &[f64; N],
+        r: &[f64; N],
+        extra: &[f64; N],
+    ) -> ([f64; N], [f64; N], [f64; N]) {
         let b = XU_B;
         let (c_r, c_v) = (b[7] - 0.5 * b[1], b[5] - b[2]);
         // One loop per elementary function: each loop's iterations are independent, so
@@ -188,8 +202,10 @@ impl EhlLine {
         for i in 0..N {
             ln_mu[i] += c_v * batch_math::ln(ve[i]);
         }
+        let mut ez = [0.0; N];
         for i in 0..N {
-            ln_mu[i] += b[4] * batch_math::exp(-z[i]);
+            ez[i] = batch_math::exp(-z[i]);
+            ln_mu[i] += b[4] * ez[i];
         }
         let mut out = [0.0; N];
         for i in 0..N {
@@ -197,7 +213,33 @@ impl EhlLine {
             let mu = batch_math::exp(ln_mu[i]);
             out[i] = if inside { mu } else { 0.0 };
         }
-        out
+        (out, z, ez)
+    }
+
+    /// At the pitch line (r = 0) at sigma: `ln mu - b3 ln r` (as [`EhlLine::ln_mu_over_slide`]),
+    /// its derivative along sigma at fixed r = 0, and z / r (z grows like r at fixed sigma):
+    /// the local expansion of mu the quadrature's axial-sliding terms use.
+    pub(crate) fn pitch_expansion(&self, sigma: f64) -> (f64, f64, f64) {
+        let b = XU_B;
+        let (rho1, rho2) = (sigma, self.lt - sigma);
+        if !(rho1 > 0.0 && rho2 > 0.0) {
+            return (f64::NEG_INFINITY, 0.0, 0.0);
+        }
+        let rr = rho1 * rho2 * self.inv_lt_cb;
+        let v = 0.5 * (self.omega1 * rho1 + self.omega2 * rho2);
+        let ve = v.abs().max(V_E_MIN);
+        // d ln V_e / d sigma = V_e' / V_e (0 where V_e is floored)
+        let dln_ve = if v.abs() > V_E_MIN {
+            0.5 * (self.omega1 - self.omega2) / v
+        } else {
+            0.0
+        };
+        let slope = (b[7] - 0.5 * b[1]) * (1.0 / rho1 - 1.0 / rho2) + (b[5] - b[2]) * dln_ve;
+        (
+            self.ln_mu_over_slide(sigma, 0.0),
+            slope,
+            self.z_coef / (ve * rr.sqrt()),
+        )
     }
 
     /// `z = SR P_h log10(nu0)` at sigma for the sliding speed r (the argument of the

@@ -2,9 +2,14 @@
 //!
 //! Computed by the Golub-Welsch method (the Stieltjes recurrence from the exact moments,
 //! then the eigenvalues of the Jacobi matrix) in 120-digit arithmetic and rounded to 25
+//! digits; the Gauss-Legendre rules of 2, 4 and 6 points by Newton's method on the
+//! Legendre polynomial (three-term recurrence) in 60-digit arithmetic, also rounded to 25
 //! digits. Gauss-Legendre: weight 1 (the weights sum to 1). Gauss-Jacobi: weight
 //! `u^(b3 - 1)` with b3 = 1.036077 of [`super::XU_B`] (the weights sum to 1/b3), exact for
-//! `u^(b3 - 1) g(u)` with g of degree <= 2n - 1.
+//! `u^(b3 - 1) g(u)` with g of degree <= 2n - 1. At the Gauss-Jacobi nodes, the weights of
+//! the interpolatory rule for the weight `u^(b3 - 2)` (exact for `u^(b3 - 2) g(u)` with g of
+//! degree <= n - 1; the moment equations solved in 80-digit arithmetic), for the first-order
+//! term of the axial-sliding expansion in `quadrature`.
 
 /// An N-point Gauss rule on [0, 1].
 pub(super) struct Rule<const N: usize> {
@@ -106,6 +111,94 @@ pub(super) const GJ12_W: [f64; 12] = [
     0.02351240547263129663011324,
 ];
 
+/// Weights of the 8-point interpolatory rule for the weight u^(b3 - 2) at the nodes of
+/// the 8-point Gauss-Jacobi rule ([`GJ8_X`]).
+#[allow(clippy::excessive_precision)]
+pub(super) const GJ8_W2: [f64; 8] = [
+    38.81526646835135022164404,
+    -22.78713332087962847504025,
+    17.94609866784192100836253,
+    -12.20546637669476246203458,
+    9.075670461897377661911180,
+    -5.302727820846111548198536,
+    2.927157594826907152656459,
+    -0.7503746691473847952683619,
+];
+/// Weights of the 10-point interpolatory rule for the weight u^(b3 - 2) at the nodes of
+/// the 10-point Gauss-Jacobi rule ([`GJ10_X`]).
+#[allow(clippy::excessive_precision)]
+pub(super) const GJ10_W2: [f64; 10] = [
+    38.41046868080250306362251,
+    -23.03749587008018135407263,
+    18.85425445776697604758759,
+    -13.73619055756764797792408,
+    11.27458924391307670391217,
+    -7.897884609555507990639429,
+    5.889729383293519837687327,
+    -3.457102647675632711247419,
+    1.906603738240833480046824,
+    -0.4884808137882703349403713,
+];
+/// Weights of the 12-point interpolatory rule for the weight u^(b3 - 2) at the nodes of
+/// the 12-point Gauss-Jacobi rule ([`GJ12_X`]).
+#[allow(clippy::excessive_precision)]
+pub(super) const GJ12_W2: [f64; 12] = [
+    38.03162800705589764500214,
+    -23.08215764550154715369085,
+    19.28642324436972423363064,
+    -14.55821396843356379383913,
+    12.52683438468504694868919,
+    -9.479000399244212330113500,
+    7.834258280099795033064994,
+    -5.538721170029723720415274,
+    4.129766555200129158314827,
+    -2.427946815443464819104496,
+    1.338303228968390049779500,
+    -0.3426826963768024872855449,
+];
+
+/// Nodes of the 2-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL2_X: [f64; 2] = [0.2113248654051871177454256, 0.7886751345948128822545744];
+/// Weights of the 2-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL2_W: [f64; 2] = [0.5000000000000000000000000, 0.5000000000000000000000000];
+/// Nodes of the 4-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL4_X: [f64; 4] = [
+    0.06943184420297371238802676,
+    0.3300094782075718675986671,
+    0.6699905217924281324013329,
+    0.9305681557970262876119732,
+];
+/// Weights of the 4-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL4_W: [f64; 4] = [
+    0.1739274225687269286865320,
+    0.3260725774312730713134680,
+    0.3260725774312730713134680,
+    0.1739274225687269286865320,
+];
+/// Nodes of the 6-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL6_X: [f64; 6] = [
+    0.03376524289842398609384922,
+    0.1693953067668677431693002,
+    0.3806904069584015456847491,
+    0.6193095930415984543152509,
+    0.8306046932331322568306998,
+    0.9662347571015760139061508,
+];
+/// Weights of the 6-point Gauss-Legendre.
+#[allow(clippy::excessive_precision)]
+pub(super) const GL6_W: [f64; 6] = [
+    0.08566224618958517252014807,
+    0.1803807865240693037849168,
+    0.2339569672863455236949352,
+    0.2339569672863455236949352,
+    0.1803807865240693037849168,
+    0.08566224618958517252014807,
+];
 /// Nodes of the 8-point Gauss-Legendre.
 #[allow(clippy::excessive_precision)]
 pub(super) const GL8_X: [f64; 8] = [
@@ -224,12 +317,33 @@ mod tests {
             check(&GJ8_X, &GJ8_W, beta),
             check(&GJ10_X, &GJ10_W, beta),
             check(&GJ12_X, &GJ12_W, beta),
+            check(&GL2_X, &GL2_W, 0.0),
+            check(&GL4_X, &GL4_W, 0.0),
+            check(&GL6_X, &GL6_W, 0.0),
             check(&GL8_X, &GL8_W, 0.0),
             check(&GL10_X, &GL10_W, 0.0),
             check(&GL16_X, &GL16_W, 0.0),
         ];
         for e in errs {
             assert!(e < 1e-13, "{errs:?}");
+        }
+        // the interpolatory rules for u^(b3 - 2): exact to degree n - 1, moments 1/(k + b3 - 1)
+        let interp = |x: &[f64], w: &[f64]| {
+            let mut worst: f64 = 0.0;
+            for k in 0..x.len() as i32 {
+                let q: f64 = x.iter().zip(w).map(|(&u, &v)| v * u.powi(k)).sum();
+                let exact = 1.0 / (k as f64 + beta);
+                worst = worst.max((q - exact).abs() / exact);
+            }
+            worst
+        };
+        let errs2 = [
+            interp(&GJ8_X, &GJ8_W2),
+            interp(&GJ10_X, &GJ10_W2),
+            interp(&GJ12_X, &GJ12_W2),
+        ];
+        for e in errs2 {
+            assert!(e < 1e-12, "{errs2:?}");
         }
     }
 }
