@@ -165,7 +165,9 @@ local Hertzian pressure, slide-to-roll ratio, entraining speed, radius of curvat
 <code>Ra</code>; <code>E1</code>, <code>nu1</code>, <code>E2</code>, <code>nu2</code> give the Hertzian pressure.</li>
 </ol>
 <p>For laws 3 and 4 the coefficient depends on the contact force, which is then found by a scalar solve. Law 4
-integrates mu_loc along every line (about 5 times the cost of law 1 per right-hand side).</p>
+integrates mu_loc along every line (about 4-5 times the cost of law 1 per right-hand side); its loss against speed
+follows a published use of the same formula on the Petry-Johnson spur test gear (413 N m, 2000-10000 rpm: within the
+bands derived from that publication's tables to 3 %; friction.md).</p>
 <h2>Variables</h2>
 <p>Values in SI units as in modelDescription.xml; in brackets the same value in the display unit.
 min and max are the declared bounds (inclusive); 1e-300 stands for &ldquo;greater than 0&rdquo;.</p>
