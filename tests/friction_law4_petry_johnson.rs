@@ -8,7 +8,8 @@
 //! relative error of the loss against the test, Table 3.9, and the absolute error of the
 //! efficiency in percentage points, Table 3.10). The absolute losses are not printed
 //! there; they follow from the two tables: test loss `P_t = d_eta P_in / e`, Xu's loss
-//! `P_t (1 - e)` (Xu below the test: the other sign gives twice the losses below). With
+//! `P_t (1 - e)`, assuming Xu's method lies below the test (the tables give no sign; the
+//! other sign, `P_t (1 + e)`, gives 1.6-2 times the losses below). With
 //! d_eta printed to 0.01 % the derived loss is known to +-0.005 % / d_eta (7-17 %):
 //!
 //! | rpm | e (Table 3.9) | d_eta (Table 3.10) | Xu's loss derived [W] |

@@ -395,6 +395,72 @@ fn law4_mu_matches_the_published_formula_at_random_points() {
     assert!(worst < 1e-12, "{worst:e}");
 }
 
+/// One law-4 segment of the line tests: the line load q, the speeds, the line of action
+/// (length lt, base helix angle beta_b), the sliding x(s) = x0 - kappa s, the axial
+/// sliding y, the segment length and sigma at its start.
+#[derive(Debug, Clone, Copy)]
+struct Law4Line {
+    q: f64,
+    omega: (f64, f64),
+    lt: f64,
+    beta_b: f64,
+    x0: f64,
+    y: f64,
+    kappa: f64,
+    len: f64,
+    sigma0: f64,
+}
+
+impl Law4Line {
+    /// Largest error of the crate's six segment integrals against adaptive quadrature of
+    /// the published local law, each relative to its natural scale: I, K relative to
+    /// mu ~ 0.1 times their Coulomb scale, W to 0.1 L max|v_T|, int mu ds to 0.1 L.
+    fn error(&self, lub: &Lubricant) -> f64 {
+        let Law4Line {
+            q,
+            omega,
+            lt,
+            beta_b,
+            x0,
+            y,
+            kappa,
+            len,
+            sigma0,
+        } = *self;
+        let (sb, cb) = beta_b.sin_cos();
+        let e = EhlLine::new(lub, q, omega.0, omega.1, lt, cb, sb);
+        let (li, mu_int) = e.segment_integrals(x0, y, kappa, len, sigma0);
+        let integrand = |s: f64, x: f64, y: f64| {
+            let r = (x * x + y * y).sqrt();
+            if r == 0.0 {
+                return [0.0; 6];
+            }
+            let mu = local_mu(sigma0 - sb * s, r, q, omega, lt, cb, lub);
+            [
+                mu * x / r,
+                mu * y / r,
+                s * mu * x / r,
+                s * mu * y / r,
+                mu * r,
+                mu,
+            ]
+        };
+        let x1 = x0 - kappa * len;
+        let w_scale = 0.1 * len * x0.abs().max(x1.abs()).max(y.abs());
+        let sc = 0.1 * len;
+        let r = reference(
+            x0,
+            y,
+            kappa,
+            len,
+            [sc, sc, sc * len, sc * len, w_scale, sc],
+            &integrand,
+        );
+        let err = rel_err(&li, &r, len, w_scale / 0.1) / 0.1;
+        err.max((mu_int - r[5]).abs() / (0.1 * len))
+    }
+}
+
 #[test]
 fn law4_line_integrals_match_adaptive_quadrature() {
     let mut rng = Rng(45);
@@ -410,10 +476,9 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         // a line of the default pair's size: sigma in the active part of the line of action
         let lt = 0.026;
         let beta_b: f64 = if i.is_multiple_of(7) { 0.0 } else { 0.33 };
-        let (sb, cb) = beta_b.sin_cos();
+        let sb = beta_b.sin();
         let omega = (314.159 * (0.3 + rng.next()), 206.9 * (0.3 + rng.next()));
         let q = lg(&mut rng, 1e4, 4e5);
-        let e = EhlLine::new(&lub, q, omega.0, omega.1, lt, cb, sb);
         let len = 0.004 + 0.016 * rng.next();
         let sigma0 = 0.004 + 0.018 * rng.next();
         let len = len.min((sigma0 - 0.002) / sb.max(1e-300));
@@ -439,37 +504,19 @@ fn law4_line_integrals_match_adaptive_quadrature() {
             2 => rng.sym(1e-2),
             _ => rng.sym(0.3),
         };
-        let (li, mu_int) = e.segment_integrals(x0, y, kappa, len, sigma0);
-        let integrand = |s: f64, x: f64, y: f64| {
-            let r = (x * x + y * y).sqrt();
-            if r == 0.0 {
-                return [0.0; 6];
-            }
-            let mu = local_mu(sigma0 - sb * s, r, q, omega, lt, cb, &lub);
-            [
-                mu * x / r,
-                mu * y / r,
-                s * mu * x / r,
-                s * mu * y / r,
-                mu * r,
-                mu,
-            ]
-        };
-        let x1 = x0 - kappa * len;
-        let w_scale = 0.1 * len * x0.abs().max(x1.abs()).max(y.abs());
-        let sc = 0.1 * len;
-        let r = reference(
+        let line = Law4Line {
+            q,
+            omega,
+            lt,
+            beta_b,
             x0,
             y,
             kappa,
             len,
-            [sc, sc, sc * len, sc * len, w_scale, sc],
-            &integrand,
-        );
-        // I, K relative to mu ~ 0.1 times their Coulomb scale; W to 0.1 L max|v_T|
-        let mut err = rel_err(&li, &r, len, w_scale / 0.1) / 0.1;
-        err = err.max((mu_int - r[5]).abs() / (0.1 * len));
-        assert!(err.is_finite(), "case {i}: {li:?} {mu_int} vs {r:?}");
+            sigma0,
+        };
+        let err = line.error(&lub);
+        assert!(err.is_finite(), "case {i}: {line:?}");
         if i >= 2000 {
             worst_run = worst_run.max(err);
             let delta = (y / kappa).abs();
@@ -489,15 +536,66 @@ fn law4_line_integrals_match_adaptive_quadrature() {
         } else {
             worst_y = worst_y.max(err);
         }
-        assert!(
-            err < 1e-10,
-            "case {i}: x0 {x0} y {y} kappa {kappa} len {len} sigma0 {sigma0}: {li:?} {mu_int} vs {r:?}: {err:e}"
-        );
+        assert!(err < 1e-10, "case {i}: {line:?}: {err:e}");
     }
     println!(
         "law 4: line integrals against adaptive quadrature: worst {worst:.2e} (y = 0), {worst_y:.2e} (axial sliding y != 0), {worst_run:.2e} (run-like axial sliding, {run_pieces} pieces with 3e-6 <= delta/far <= 1e-2)"
     );
     assert!(run_pieces >= 700, "{run_pieces}");
+}
+
+/// Pieces that end near the pitch line without reaching it (the root of x just outside
+/// the segment, at `near` from its end) with small axial sliding: the expansion in delta
+/// on [0, h0] minus [0, near] (near < 0.1 h0), both for near below and above 100 delta,
+/// and the pieces starting at the root as a control. Built so that each class is present:
+/// at this line's size z stays below 1, so h0 is the far end of the piece.
+#[test]
+fn law4_pieces_ending_near_the_pitch_line_match_adaptive_quadrature() {
+    let mut rng = Rng(47);
+    let lub = FrictionParams::default().lubricant();
+    let (lt, beta_b) = (0.026, 0.33f64);
+    let mut worst = [0.0f64; 3];
+    let mut counts = [0usize; 3];
+    for i in 0..600u32 {
+        let omega = (314.159 * (0.3 + rng.next()), 206.9 * (0.3 + rng.next()));
+        let q = lg(&mut rng, 1e4, 4e5);
+        let len = 0.004 + 0.012 * rng.next();
+        let sigma0 = 0.008 + 0.012 * rng.next();
+        let kappa = (omega.0 + omega.1) * beta_b.sin();
+        let delta = len * lg(&mut rng, 1e-9, 1e-5);
+        // class 0: near < 100 delta; class 1: 100 delta <= near <= 0.05 len; 2: near = 0
+        let class = (i % 3) as usize;
+        let near = match class {
+            0 => delta * lg(&mut rng, 0.1, 99.0),
+            1 => (100.0 * delta).max(len * lg(&mut rng, 1e-6, 0.05)),
+            _ => 0.0,
+        };
+        // the root before the start (x0 < 0 side) or after the end of the segment
+        let root = if rng.next() < 0.5 { -near } else { len + near };
+        let line = Law4Line {
+            q,
+            omega,
+            lt,
+            beta_b,
+            x0: kappa * root,
+            y: rng.sign() * kappa * delta,
+            kappa,
+            len,
+            sigma0,
+        };
+        let err = line.error(&lub);
+        assert!(
+            err < 1e-10,
+            "case {i} (class {class}, near {near}): {line:?}: {err:e}"
+        );
+        worst[class] = worst[class].max(err);
+        counts[class] += 1;
+    }
+    println!(
+        "law 4, pieces ending near the pitch line: worst {:.2e} (near < 100 delta), {:.2e} (near >= 100 delta), {:.2e} (at the root)",
+        worst[0], worst[1], worst[2]
+    );
+    assert!(counts.iter().all(|&c| c >= 200), "{counts:?}");
 }
 
 #[test]

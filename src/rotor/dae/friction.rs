@@ -129,7 +129,7 @@ impl GearedRotor {
     /// Consistent lambda for the load-dependent laws 3 and 4: the hidden
     /// constraint reads `h(lambda) = lambda A + G M^-1 Q_f(lambda) - r = 0` with A, r as
     /// in [`GearedRotor::consistent_lambda`]; Q_f uses |lambda| itself, so any root is
-    /// consistent (no sign assumption). Secant iteration until the step is below 2 ulp
+    /// consistent (no sign assumption). Secant iteration until the step is below 2 eps |lambda|
     /// (the residual is then at round-off). It starts from the lambda of y when that has
     /// the sign of r (at a communication point the integrator's lambda is already within
     /// ~rtol of the root: typically 3 friction evaluations instead of 4-6 from the
@@ -137,8 +137,9 @@ impl GearedRotor {
     /// friction-linearised correction of the first. `at_y`: the friction of y at its own
     /// lambda when the caller has it (the first evaluation is then free).
     ///
-    /// Returns lambda and the friction evaluated at it (the last iterate, within 2 ulp of
-    /// the root), so that outputs at the consistent state need no further evaluation.
+    /// Returns lambda and the friction evaluated at it (the last iterate, within about
+    /// 2 eps |lambda| of the root), so that outputs at the consistent state need no further
+    /// evaluation.
     ///
     /// # Errors
     /// Mesh/contact errors; [`ModelError::InconsistentLambda`] when the iteration does
@@ -165,17 +166,19 @@ impl GearedRotor {
             r -= grow[i] * force / self.mass[i];
         }
         r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(m, &kin);
-        // h(lambda) and the friction evaluated for it.
-        let residual = |lam: f64, fr: (FrictionSums, f64)| -> (f64, (FrictionSums, f64)) {
+        // h(lambda), its friction part phi(lambda) = G M^-1 Q_f(lambda), and the friction
+        // evaluated for it.
+        type Eval = (f64, f64, (FrictionSums, f64));
+        let residual = |lam: f64, fr: (FrictionSums, f64)| -> Eval {
             let q = fr.0.resultants(fr.1, lam);
             let q = [q.f1.x, q.f1.y, q.f1.z, q.f2.x, q.f2.y, q.f2.z, -q.m2.z];
             let mut phi = 0.0;
             for i in 0..7 {
                 phi += grow[i] * q[i] / self.mass[i];
             }
-            (lam * a + phi - r, fr)
+            (lam * a + phi - r, phi, fr)
         };
-        let h = |lam: f64| -> Result<(f64, (FrictionSums, f64)), ModelError> {
+        let h = |lam: f64| -> Result<Eval, ModelError> {
             Ok(residual(lam, self.friction(t, y, m, lam, Asker::Point)?))
         };
         let lam_y = y[idx::LAMBDA];
@@ -184,17 +187,22 @@ impl GearedRotor {
         }
         let from_y = lam_y.is_finite() && lam_y * r > 0.0;
         let mut l0 = if from_y { lam_y } else { r / a };
-        let (mut h0, first) = match at_y {
+        let (mut h0, phi0, first) = match at_y {
             Some(fr) if from_y => residual(l0, fr),
             _ => h(l0)?,
         };
         if h0 == 0.0 {
             return Ok((l0, first));
         }
-        // h(l0) = l0 A + phi(l0) - r: friction as an effective slope phi(l0)/l0.
-        let mut l1 = r / (a + (h0 + r - l0 * a) / l0);
+        // Friction as an effective slope phi(l0)/l0 (phi from the evaluation, not from
+        // h0 + r - l0 A, which cancels when l0 is far from the root).
+        let mut l1 = r / (a + phi0 / l0);
         for _ in 0..60 {
-            let (h1, e1) = h(l1)?;
+            if !l1.is_finite() {
+                // the effective slope cancels A: friction this strong is not resolved here
+                break;
+            }
+            let (h1, _, e1) = h(l1)?;
             if h1 == 0.0 {
                 return Ok((l1, e1));
             }
@@ -211,7 +219,7 @@ impl GearedRotor {
                 break;
             }
             if (l2 - l1).abs() <= 2.0 * f64::EPSILON * l2.abs() {
-                // l1 is within 2 ulp of the root, and its friction is at hand.
+                // l1 is within about 2 eps |l1| of the root, and its friction is at hand.
                 return Ok((l1, e1));
             }
             (l0, h0) = (l1, h1);
