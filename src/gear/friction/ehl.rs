@@ -32,7 +32,8 @@
 //! sliding where it is small (as in a run), a sinh map across the branch points of larger
 //! axial sliding, graded Gauss-Legendre panels beyond, with fewer nodes where a panel's
 //! share of the integrals is small; the nodes of a panel evaluated together with
-//! vectorised `ln`/`exp`; 1e-11 against adaptive quadrature). Spur lines (sigma constant along the line) need one evaluation of mu.
+//! vectorised `ln`/`exp`; 1e-11 against adaptive quadrature). Spur lines (sigma constant
+//! along the line) need one evaluation of mu.
 //! No allocation.
 
 use super::LineIntegrals;

@@ -170,6 +170,17 @@ const C_Y: f64 = 0.05611219783674559;
 /// line test).
 const Z_ROOT: f64 = 1.0;
 
+/// A Gauss-Jacobi panel at the root of x: `sign * int_0^dmax` over the distance d from
+/// the root (at s = `root`) along `dir`, with the axial sliding delta = |y / kappa|.
+#[derive(Clone, Copy)]
+struct RootPanel {
+    root: f64,
+    dir: f64,
+    dmax: f64,
+    sign: f64,
+    delta: f64,
+}
+
 /// Segment data for the quadrature.
 struct Line<'a> {
     e: &'a EhlLine,
@@ -373,7 +384,13 @@ impl Line<'_> {
         z_max: f64,
         delta: f64,
     ) {
-        let panel = (root, dir, dmax, sign, delta);
+        let panel = RootPanel {
+            root,
+            dir,
+            dmax,
+            sign,
+            delta,
+        };
         if z_max <= Z_ROOT_TINY {
             self.jacobi_rule(acc, panel, &ROOT_RULE_TINY, &GJ8_W2);
         } else if z_max <= Z_ROOT_SHORT {
@@ -384,15 +401,21 @@ impl Line<'_> {
     }
 
     /// [`Line::jacobi`] with the rule given (and `w2`, the weights of the interpolatory
-    /// rule for u^(b3 - 2) at its nodes); `panel` = (root, dir, dmax, sign, delta).
+    /// rule for u^(b3 - 2) at its nodes).
     fn jacobi_rule<const N: usize>(
         &self,
         acc: &mut Acc,
-        panel: (f64, f64, f64, f64, f64),
+        panel: RootPanel,
         rule: &Rule<N>,
         w2: &[f64; N],
     ) {
-        let (root, dir, dmax, sign, delta) = panel;
+        let RootPanel {
+            root,
+            dir,
+            dmax,
+            sign,
+            delta,
+        } = panel;
         let b = XU_B;
         let ak = self.kappa.abs();
         let scale = sign * dmax.powf(b[2]);
@@ -434,13 +457,19 @@ impl Line<'_> {
     fn axial_sliding_terms<const N: usize>(
         &self,
         acc: &mut Acc,
-        panel: (f64, f64, f64, f64, f64),
+        panel: RootPanel,
         d: &[f64; N],
         s: &[f64; N],
         node: (&[f64; N], &[f64; N], &[f64; N]),
         w2: &[f64; N],
     ) {
-        let (root, dir, dmax, sign, delta) = panel;
+        let RootPanel {
+            root,
+            dir,
+            dmax,
+            sign,
+            delta,
+        } = panel;
         let (g, z, ez) = node;
         let b = XU_B;
         let ak = self.kappa.abs();
