@@ -140,7 +140,7 @@ fn states(model: &mut GearedRotor, moving: bool) -> Vec<SVector<f64, NY>> {
         .collect()
 }
 
-/// Operating speed of the runs (rad/s) and the mesh period at it (27 teeth on gear 1).
+/// Operating speed of the runs (rad/s).
 const OMEGA1: f64 = 314.159;
 
 /// 64 states over one mesh period of a simulated run of the pair (from rest at OMEGA1,
@@ -155,7 +155,8 @@ fn run_states(params: Params) -> Vec<SVector<f64, NY>> {
     let mut sim = Simulation::new(params, settings, 0.0, OMEGA1, 0.0).expect("start");
     let t_settle = 0.2;
     sim.do_step(0.0, t_settle).expect("settle");
-    let period = 2.0 * std::f64::consts::PI / (27.0 * OMEGA1);
+    // one mesh period: the pitch angle of gear 1 at OMEGA1
+    let period = sim.model().geometry().phi1_period / OMEGA1;
     let mut t = t_settle;
     (0..64)
         .map(|_| {

@@ -43,6 +43,14 @@ fn sim_err(e: SimError) -> BindingError {
     BindingError::Sim(e)
 }
 
+/// `what` (with its verb, `is` or `are`) asked for before the simulation exists.
+#[cold]
+fn not_initialised(what: &str, verb: &str) -> BindingError {
+    BindingError::NotAvailable(format!(
+        "{what} {verb} not available: the model was not initialised"
+    ))
+}
+
 impl GearedRotorFmu {
     /// The simulation (after initialisation).
     pub fn simulation(&self) -> Option<&Simulation> {
@@ -105,12 +113,10 @@ impl GearedRotorFmu {
                 if phase == Phase::InitializationMode {
                     self.ensure_sim(exp)?;
                 }
-                let sim = self.sim.as_ref().ok_or_else(|| {
-                    BindingError::NotAvailable(format!(
-                        "{} is not available: the model was not initialised",
-                        var.name
-                    ))
-                })?;
+                let sim = self
+                    .sim
+                    .as_ref()
+                    .ok_or_else(|| not_initialised(var.name, "is"))?;
                 values::calculated_value(sim.model().geometry(), var.var)
                     .ok_or_else(|| BindingError::NotAvailable(format!("{} has no value", var.name)))
             }
@@ -130,11 +136,10 @@ impl GearedRotorFmu {
             self.ensure_sim(exp)?;
         }
         if !self.outputs_valid {
-            let sim = self.sim.as_ref().ok_or_else(|| {
-                BindingError::NotAvailable(
-                    "outputs are not available: the model was not initialised".into(),
-                )
-            })?;
+            let sim = self
+                .sim
+                .as_ref()
+                .ok_or_else(|| not_initialised("outputs", "are"))?;
             values::output_values(&sim.outputs(), &mut self.output_values);
             self.outputs_valid = true;
         }
@@ -293,7 +298,7 @@ impl Model for GearedRotorFmu {
         let sim = self
             .sim
             .as_mut()
-            .ok_or_else(|| BindingError::NotAvailable("the model was not initialised".into()))?;
+            .ok_or_else(|| not_initialised("output derivatives", "are"))?;
         // Central difference on the dense output (order 1).
         let (om, op, delta) = sim.outputs_for_derivative();
         let (mut a, mut b) = ([0.0; N_VARIABLES], [0.0; N_VARIABLES]);

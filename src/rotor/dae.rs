@@ -482,9 +482,9 @@ impl GearedRotor {
         self.consistent_lambda_with(t, y, &m, &sums)
     }
 
-    /// [`GearedRotor::consistent_lambda`] with the mesh and friction sums of y already
-    /// evaluated (they do not depend on lambda); `m` must be the mesh of y (laws 3 and 4
-    /// evaluate, and memoise, friction with it).
+    /// [`GearedRotor::consistent_lambda`] for laws 1 and 2 (friction linear in |lambda|),
+    /// in closed form from the mesh and the friction sums of y already evaluated (they do
+    /// not depend on lambda). Laws 3 and 4 take [`GearedRotor::consistent_lambda_solve`].
     ///
     /// # Errors
     /// [`ModelError::InconsistentLambda`] as for [`GearedRotor::consistent_lambda`].
@@ -495,9 +495,6 @@ impl GearedRotor {
         m: &Mesh,
         sums: &FrictionSums,
     ) -> Result<f64, ModelError> {
-        if self.params.friction_law.load_dependent() {
-            return self.consistent_lambda_solve(t, y, m, None).map(|(l, _)| l);
-        }
         let g = &self.geom;
         let m = *m;
         let grow = g.constraint_row(&m);
@@ -657,11 +654,19 @@ impl GearedRotor {
     /// Every output of `model.md` §6 from the state and the inputs at t. When the mesh
     /// cannot be evaluated the contact quantities are NaN.
     pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
-        let res = self.mesh(t, y).and_then(|m| {
+        self.outputs_with(y, self.point_friction(t, y))
+    }
+
+    /// The mesh of y and its friction at y's own lambda, as the outputs ask for them.
+    fn point_friction(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+    ) -> Result<(Mesh, FrictionSums, f64), ModelError> {
+        self.mesh(t, y).and_then(|m| {
             self.friction(t, y, &m, y[idx::LAMBDA], Asker::Outputs)
                 .map(|(s, mu)| (m, s, mu))
-        });
-        self.outputs_with(y, res)
+        })
     }
 
     /// Outputs with lambda replaced by the value of the hidden constraint where it can be
@@ -671,10 +676,7 @@ impl GearedRotor {
         if self.params.friction_law.load_dependent() {
             return self.outputs_consistent_load_dependent(t, y);
         }
-        let res = self.mesh(t, y).and_then(|m| {
-            self.friction(t, y, &m, y[idx::LAMBDA], Asker::Outputs)
-                .map(|(s, mu)| (m, s, mu))
-        });
+        let res = self.point_friction(t, y);
         let mut z = *y;
         if let Ok((m, sums, _)) = &res {
             if let Ok(l) = self.consistent_lambda_with(t, y, m, sums) {
@@ -690,10 +692,7 @@ impl GearedRotor {
     /// lambda: the scalar solve starts from y's own lambda with the friction evaluated
     /// there and returns the friction at its root, which the outputs then use.
     fn outputs_consistent_load_dependent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
-        let res = self.mesh(t, y).and_then(|m| {
-            self.friction(t, y, &m, y[idx::LAMBDA], Asker::Outputs)
-                .map(|(s, mu)| (m, s, mu))
-        });
+        let res = self.point_friction(t, y);
         let mut z = *y;
         let res = res.map(|(m, sums, mu)| {
             match self.consistent_lambda_solve(t, y, &m, Some((sums, mu))) {
