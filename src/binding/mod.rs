@@ -359,11 +359,11 @@ impl Model for GearedRotorFmu {
                 Fmi2Status::OK,
                 Category::Events,
                 &format!(
-                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {} s; at the end the teeth are {what}",
+                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {:.12} s (located); at the end the teeth are {what}",
                     report.contact_changes,
                     Short(t0),
                     Short(ccp + h),
-                    Short(report.first_change_time)
+                    report.first_change_time
                 ),
             );
         }

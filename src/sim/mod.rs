@@ -209,14 +209,21 @@ impl Simulation {
         self.solver.t() > self.t_comm
     }
 
+    /// The stepper's state at t (its y at its own time, else its dense output).
+    fn state_at(&self, t: f64, y: &mut SVector<f64, NY>) {
+        if t == self.solver.t() {
+            y.copy_from(self.solver.y());
+        } else {
+            self.solver.dense_output(t, y);
+        }
+    }
+
     /// Sets the FMU time and the state there from the stepper.
     fn set_comm(&mut self, t: f64) {
         self.t_comm = t;
-        if t == self.solver.t() {
-            self.y_comm = *self.solver.y();
-        } else {
-            self.solver.dense_output(t, &mut self.y_comm);
-        }
+        let mut y = SVector::<f64, NY>::zeros();
+        self.state_at(t, &mut y);
+        self.y_comm = y;
     }
 
     /// Before f changes at the FMU time: a look-ahead step is retaken so that the stepper

@@ -199,15 +199,18 @@ impl Simulation {
                 }
             }
         }
-        self.set_comm(t_end);
-        if self.ahead() {
-            let y = self.y_comm;
-            self.track_contact(t_end, &y, &mut report);
+        // The state at t_end is checked before the FMU time moves there: a violation located
+        // inside this doStep (also one before t_end on a look-ahead step that went past it)
+        // then sets the FMU time to its instant, which must not lie before the FMU time.
+        let mut y_end = SVector::<f64, NY>::zeros();
+        self.state_at(t_end, &mut y_end);
+        if self.solver.t() > t_end {
+            self.track_contact(t_end, &y_end, &mut report);
         }
         if self.validity.t_checked < t_end {
-            let y = self.y_comm;
-            self.check_validity(t_end, &y, &mut report)?;
+            self.check_validity(t_end, &y_end, &mut report)?;
         }
+        self.set_comm(t_end);
         self.last_successful_time = t_end;
         report.stats = self.solver.stats().since(&stats0);
         report.contact_lost = self.contact_lost;
@@ -224,7 +227,7 @@ impl Simulation {
         }
         if lost != self.contact_lost {
             if report.contact_changes == 0 {
-                report.first_change_time = t;
+                report.first_change_time = self.locate_contact_change(t, y, lost);
             }
             report.contact_changes += 1;
             self.contact_lost = lost;
