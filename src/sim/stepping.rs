@@ -84,9 +84,9 @@ impl Simulation {
         // stepper (fresh f, Jacobian marked stale, h kept). Re-setting the same values (or
         // values that continue the same ramp) costs nothing.
         let change = self.change_pending();
-        self.inputs_ref = *self.problem.model.inputs();
         if change {
-            // The setters have already retaken a look-ahead step (`sync`); a no-op then.
+            // A look-ahead step is retaken to end on t with the old function (`sync`; a
+            // no-op when a tunable setter already did it).
             if let Err(e) = self.sync() {
                 self.last_successful_time = t;
                 return Err(e);
@@ -119,6 +119,7 @@ impl Simulation {
             self.restart_pending = false;
             report.restarted = true;
         }
+        self.inputs_ref = *self.problem.model.inputs();
         // A derivative set at this point applies until the master sets a new one or a value.
         self.der_set = [false; 2];
         // Look ahead unless the inputs changed here: a master that changes them at every
