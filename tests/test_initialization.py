@@ -147,6 +147,11 @@ def test_initialization_errors_say_why(pkg):
         inst.slave.setupExperiment(startTime=0.0)
         inst.set({"initialization": 3, "omega1": 0.0})
         inst.slave.enterInitializationMode()
+        # A calculated parameter comes from the parameters alone: its read neither builds
+        # the start state (here it cannot exist) nor fails; r_b1 = z1 m_n cos(alpha_t) /
+        # (2 cos beta) of the default pair (model.md §2: 26.793197 mm).
+        assert inst.get1("r_b1") == pytest.approx(26.793197e-3, rel=1e-7)
+        assert not inst.messages(FMI2_ERROR)
         assert call_status(inst.slave.exitInitializationMode) == FMI2_ERROR
         msg = " ".join(inst.messages(FMI2_ERROR))
         assert "omega1" in msg and "initialization = rest" in msg, msg

@@ -110,14 +110,15 @@ impl GearedRotorFmu {
                 Ok(self.values[var.var as usize])
             }
             Causality::CalculatedParameter => {
-                if phase == Phase::InitializationMode {
-                    self.ensure_sim(exp)?;
-                }
-                let sim = self
-                    .sim
-                    .as_ref()
-                    .ok_or_else(|| not_initialised(var.name, "is"))?;
-                values::calculated_value(sim.model().geometry(), var.var)
+                // From the parameters alone (the pair geometry): reading one must not build
+                // the initial state (a periodic start integrates mesh periods and can fail).
+                let geometry = match &self.sim {
+                    Some(sim) if !self.dirty => *sim.model().geometry(),
+                    _ => values::params(&self.values)
+                        .and_then(|p| p.validate())
+                        .map_err(|e| sim_err(SimError::Param(e)))?,
+                };
+                values::calculated_value(&geometry, var.var)
                     .ok_or_else(|| BindingError::NotAvailable(format!("{} has no value", var.name)))
             }
             Causality::Output => self.output(var, phase, exp),
