@@ -103,7 +103,7 @@ cited as model.md &sect;N), the solver in <a href="radau5.md">radau5.md</a>, the
 filter (model.md &sect;8), so a held step gives a bounded torque; input derivatives (order 1) are used when the master
 sets them; output derivatives (order 1) come from RADAU5's dense output.</p>
 <p>Interface: {n_in} inputs, {n_out} outputs, {n_par} parameters, {n_calc} calculated parameters. Default experiment:
-{start} to {stop} s, tolerance {tol}, step {step} s.</p>
+{start} to {stop} s, step {step} s (no default tolerance: the parameter rtol applies unless the master passes one to fmi2SetupExperiment).</p>
 <h2>Example result</h2>
 <figure><img src="result.svg" alt="T1, Fn and TE of the reference run">
 <figcaption>The reference run shipped with this FMU: the default pair from rest at 3000 rpm, <code>T_load</code>
@@ -189,7 +189,6 @@ min and max are the declared bounds (inclusive); 1e-300 stands for &ldquo;greate
         n_calc = n_of("calculatedParameter"),
         start = escape(exp("startTime")),
         stop = escape(exp("stopTime")),
-        tol = escape(exp("tolerance")),
         step = escape(exp("stepSize")),
         rb1 = g.rb1 * 1e3,
         rb2 = g.rb2 * 1e3,
