@@ -145,6 +145,13 @@ impl GearedRotor {
         &self.geom
     }
 
+    /// The coefficient of friction where the parameter `mu` is it (laws 1 and 2); None for
+    /// the laws whose coefficient follows from the load, speed and oil (3 and 4), which
+    /// ignore `mu`.
+    pub fn coulomb_mu(&self) -> Option<f64> {
+        (!self.params.friction_law.load_dependent()).then_some(self.params.mu)
+    }
+
     /// Changes mu (tunable). The lambda held in a state is then no longer consistent:
     /// recompute it with [`GearedRotor::consistent_lambda`] before restarting the solver.
     ///

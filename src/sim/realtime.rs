@@ -94,8 +94,7 @@ impl Simulation {
     pub fn set_h_fixed(&mut self, h_fixed: f64) -> Result<(), SimError> {
         check_h_fixed(h_fixed)?;
         let model = &self.problem.model;
-        let p = model.params();
-        let friction = p.friction_law.load_dependent() || p.mu > 0.0;
+        let friction = model.coulomb_mu().is_none_or(|mu| mu > 0.0);
         if h_fixed > 0.0 && model.geometry().tan_beta_b == 0.0 && friction {
             return Err(ParamError {
                 name: "h_fixed",
