@@ -92,10 +92,18 @@ def case_title(v: dict, md=None, t_damp: float | None = None) -> str:
 
 
 def wrap_title(text: str, width: int = 95) -> str:
-    """Long titles over several lines (the figure is ~8 inches wide at fontsize 9)."""
-    import textwrap
+    """Long titles over several lines (the figure is ~8 inches wide at fontsize 9), broken
+    only after ", " or "; " so that no "name = value" is split."""
+    import re
 
-    return "\n".join(textwrap.wrap(text, width=width, break_long_words=False))
+    lines, line = [], ""
+    for part in re.split(r"(?<=[,;]) ", text):
+        if line and len(line) + 1 + len(part) > width:
+            lines.append(line)
+            line = part
+        else:
+            line = f"{line} {part}" if line else part
+    return "\n".join(lines + [line])
 
 
 def plot(out: Path, t, res, a: float, b: float, t_m: float, title: str, steady_from_start: bool) -> list[Path]:
