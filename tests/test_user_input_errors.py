@@ -141,3 +141,14 @@ def test_gearstudy_unknown_column_and_changed_grid(fmu_path, tmp_path):
     # the same grid again: nothing to run
     r = _gearstudy("sweep", str(study), "--out", str(out), "--fmu", str(fmu_path), "--serial", "--no-progress")
     assert r.returncode == 0 and "all done already" in r.stdout, r.stdout + r.stderr
+
+
+def test_gearstudy_warns_about_bare_numbers_implausible_in_si(fmu_path, tmp_path):
+    study = tmp_path / "bare.toml"
+    study.write_text('[grid]\nomega1 = {start = 1000, stop = 2000, num = 2}\n[fixed]\nmu = 0.05\n'
+                     '[window]\ntransient = "2 ms"\nperiods = 2\nsamples_per_period = 8\nn_orders = 2\n')
+    r = _gearstudy("sweep", str(study), "--out", str(tmp_path / "r"), "--fmu", str(fmu_path), "--serial",
+                   "--no-progress")
+    assert r.returncode == 0, r.stderr
+    assert "omega1 = 1000 has no unit, so it is 1000 rad/s" in r.stderr and '"1000 rpm"' in r.stderr, r.stderr
+    assert "mu = " not in r.stderr  # dimensionless: nothing to say
