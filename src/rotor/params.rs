@@ -107,7 +107,7 @@ impl Params {
     }
 
     /// The masses and inertias with every 0 replaced by the solid steel body of the
-    /// geometry ([`SolidBodies`]); a pair whose geometry is invalid is returned unchanged
+    /// geometry (`SolidBodies`); a pair whose geometry is invalid is returned unchanged
     /// (`validate` then names the rule).
     pub fn with_solid_bodies(mut self) -> Self {
         if let Ok(g) = PairGeometry::new(&self.gear) {
@@ -127,7 +127,7 @@ impl Params {
     }
 
     /// Warnings for masses or inertias that do not fit the geometry: outside
-    /// [`PLAUSIBLE_SOLID_RATIO`] times the solid steel body ([`SolidBodies`]). One
+    /// `PLAUSIBLE_SOLID_RATIO` times the solid steel body (`SolidBodies`). One
     /// message per value, naming it, the solid body's value and the rule.
     pub fn implausible_bodies(&self, g: &PairGeometry) -> Vec<String> {
         let s = SolidBodies::of(g);

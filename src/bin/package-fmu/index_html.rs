@@ -300,7 +300,9 @@ current load and speed. Formulas, sources, units and ranges: <a href="#note-fric
 <li>Mean coefficient of ISO/TR 14179-2 (Schlenk's formula): <code>mu_mz</code> from the transverse load per face width,
 the sum speed and the equivalent radius of curvature at the pitch point, <code>eta_oil</code>, <code>Ra</code> and
 <code>X_L</code>. Checked against a published worked example (the FZG C40 gear: mu_mz 0.0256, H_V 0.1986;
-friction.md).</li>
+friction.md). The loss of a run uses the model's loss factor <code>H_V</code>; the standard's loss is
+<code>mu_mz H_V_iso P_in</code> with Ohlendorf's <code>H_V_iso</code> (equal for spur pairs, 16-19 % lower for
+helical ones). Outside the fitted range (v_t &ge; 1 m/s, F_bt/b &ge; 150 N/mm) a warning is logged.</li>
 <li>Local EHL coefficient along the lines (Xu, Kahraman, Anderson, Maddock 2007, fitted for a 75W90 gear oil) from the
 local Hertzian pressure, slide-to-roll ratio, entraining speed, radius of curvature, <code>eta_oil</code> and
 <code>Ra</code>; <code>E1</code>, <code>nu1</code>, <code>E2</code>, <code>nu2</code> give the Hertzian pressure.</li>

@@ -81,11 +81,11 @@ pub fn inline(text: &str, notes: &[(&str, &str)], files: &[&str]) -> String {
                 continue;
             }
         }
-        if rest.starts_with("**") {
-            if let Some(end) = rest[2..].find("**") {
+        if let Some(bold) = rest.strip_prefix("**") {
+            if let Some(end) = bold.find("**") {
                 if end > 0 {
                     flush(&mut plain, &mut o);
-                    let _ = write!(o, "<b>{}</b>", inline(&rest[2..2 + end], notes, files));
+                    let _ = write!(o, "<b>{}</b>", inline(&bold[..end], notes, files));
                     i += 4 + end;
                     continue;
                 }
@@ -310,7 +310,7 @@ pub fn to_html(md: &str, prefix: &str, notes: &[(&str, &str)], files: &[&str]) -
                             let mut sub = Vec::new();
                             while i < lines.len()
                                 && !lines[i].trim().is_empty()
-                                && !list_item(lines[i]).is_some_and(|(k, _, _)| k <= indent0)
+                                && list_item(lines[i]).is_none_or(|(k, _, _)| k > indent0)
                             {
                                 sub.push(lines[i]);
                                 i += 1;

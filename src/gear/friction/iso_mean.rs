@@ -98,7 +98,7 @@ impl IsoMean {
 /// dissertation TU Munich 1958, as given by Niemann & Winter, Maschinenelemente vol. II,
 /// and used by ISO/TR 14179-2:2001 in `P_VZP = mu_mz H_V P_in`):
 ///
-/// `H_V = pi (u + 1) / (z1 u cos beta_b) (1 - eps_alpha + eps_1^2 + eps_2^2)`  [1]
+/// `H_V = pi (u + 1) / (z1 u cos beta_b) (1 - eps_alpha + eps_1^2 + eps_2^2)`  (dimensionless)
 ///
 /// with u = z2/z1, eps_1 and eps_2 the approach and recess parts of the transverse contact
 /// ratio (eps_alpha = eps_1 + eps_2). It assumes the load of a spur pair (shared equally in
