@@ -141,8 +141,13 @@ impl Params {
         ] {
             let ratio = x / solid;
             if !(lo..=hi).contains(&ratio) {
+                let ratio = if (1e-3..1e4).contains(&ratio) {
+                    format!("{ratio:.3}")
+                } else {
+                    format!("{ratio:.3e}")
+                };
                 out.push(format!(
-                    "{name} = {x:.4e} {unit} is {ratio:.3} times the solid steel gear body of \
+                    "{name} = {x:.4e} {unit} is {ratio} times the solid steel gear body of \
                      this geometry ({name}_solid = {solid:.4e} {unit}); plausible is {lo} to \
                      {hi} times (a thin rim keeps at least ~0.34 of the solid inertia, a shaft \
                      and hub rarely add more than ten times the gear); check the value and its \

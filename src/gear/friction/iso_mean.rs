@@ -124,15 +124,25 @@ pub const FITTED_LOAD_MIN: f64 = 150.0;
 /// Schlenk's fitted range ([`FITTED_V_T_MIN`], [`FITTED_LOAD_MIN`]): one phrase per
 /// violated bound, empty inside.
 pub fn outside_fitted_range(v_t: f64, f_bt_per_b: f64) -> Vec<String> {
+    // fixed decimals for ordinary values, an exponent beyond (no 300-digit numbers)
+    let num = |x: f64, decimals: usize| {
+        if x.abs() < 1e6 {
+            format!("{x:.decimals$}")
+        } else {
+            format!("{x:.3e}")
+        }
+    };
     let mut out = Vec::new();
     if !(v_t >= FITTED_V_T_MIN) {
         out.push(format!(
-            "pitch-line speed v_t = {v_t:.3} m/s < {FITTED_V_T_MIN} m/s"
+            "pitch-line speed v_t = {} m/s < {FITTED_V_T_MIN} m/s",
+            num(v_t, 3)
         ));
     }
     if !(f_bt_per_b >= FITTED_LOAD_MIN) {
         out.push(format!(
-            "load per face width F_bt/b = {f_bt_per_b:.1} N/mm < {FITTED_LOAD_MIN} N/mm"
+            "load per face width F_bt/b = {} N/mm < {FITTED_LOAD_MIN} N/mm",
+            num(f_bt_per_b, 1)
         ));
     }
     out
