@@ -99,6 +99,9 @@ def test_gearstudy_missing_inputs_get_messages(fmu_path, tmp_path):
              "study file", "nothere.toml", "does not exist")
     _refused(_gearstudy("plot", str(tmp_path / "noresults")), "noresults", "do not exist")
     _refused(_gearstudy("table", str(tmp_path / "noresults")), "noresults", "do not exist")
+    bad = tmp_path / "kind.toml"
+    bad.write_text('[grid]\nomega1 = ["2000 rpm"]\n[window]\nperiods = "ten"\n')
+    _refused(_gearstudy("sweep", str(bad), "--fmu", str(fmu_path), "--serial"), "kind.toml", "ten")
     (tmp_path / "empty").mkdir()
     _refused(_gearstudy("table", str(tmp_path / "empty")), "empty", "holds no results")
 
@@ -126,6 +129,8 @@ def test_gearstudy_unknown_column_and_changed_grid(fmu_path, tmp_path):
     assert "4 run (0 failed)" in r.stdout
     _refused(_gearstudy("table", str(out), "effciency"), "no column 'effciency'", "did you mean efficiency")
     _refused(_gearstudy("table", str(out), "efficiency", "--x", "omega"), "omega", "--x")
+    _refused(_gearstudy("table", str(out), "status"), "'status' holds text", "efficiency")
+    _refused(_gearstudy("plot", str(out), "--x", "omega"), "omega", "--x")
     # the grid's values changed (the names did not): refused, nothing run, the old rows kept
     study.write_text(STUDY.format(t_load=20.0))
     r = _gearstudy("sweep", str(study), "--out", str(out), "--fmu", str(fmu_path), "--serial", "--no-progress")

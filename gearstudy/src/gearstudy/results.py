@@ -115,9 +115,15 @@ def read_results(out) -> pa.Table:
 
 
 def require_column(table: pa.Table, name: str, what: str = "column") -> None:
-    """StudyError naming the column and the ones that come close, if `name` is not one."""
+    """StudyError naming the column and the ones that come close, if `name` is not a numeric
+    column of the table."""
     if name in table.column_names:
-        return
+        kind = table.schema.field(name).type
+        if pa.types.is_floating(kind) or pa.types.is_integer(kind):
+            return
+        numeric = [c for c in table.column_names
+                   if pa.types.is_floating(table.schema.field(c).type)]
+        raise StudyError(f"{what} '{name}' holds text, not numbers; give one of: {', '.join(numeric)}")
     import difflib
 
     close = difflib.get_close_matches(name, table.column_names, n=4, cutoff=0.5)

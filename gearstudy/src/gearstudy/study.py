@@ -111,7 +111,15 @@ def load_study(path, fmu: Path | str | None = None, catalog: Catalog | None = No
         raise StudyError(f"{path}: not valid TOML: {e}") from None
     except (OSError, UnicodeDecodeError) as e:
         raise StudyError(f"study file {path} cannot be read: {e}") from None
-    return study_from_dict(data, base=path.parent, path=path, fmu=fmu, catalog=catalog)
+    try:
+        return study_from_dict(data, base=path.parent, path=path, fmu=fmu, catalog=catalog)
+    except StudyError:
+        raise
+    except (ValueError, TypeError, KeyError, AttributeError) as e:
+        # an entry of the wrong kind (a word where a number belongs, a table where a value
+        # belongs): the file's problem, said with the file's name
+        raise StudyError(f"{path}: an entry has the wrong kind of value ({type(e).__name__}: {e}); "
+                         "see docs/studies.md for the format") from None
 
 
 def study_from_dict(
