@@ -373,6 +373,10 @@ def main() -> int:
     except KeyboardInterrupt:
         print("main job: interrupted", file=sys.stderr)
         return 130
+    except OSError as e:  # e.g. --out not writable, a file in the way
+        print(f"main job: error: {e.strerror or e} ({e.filename or ''}); check --out and --fmu",
+              file=sys.stderr)
+        return 2
 
 
 def run_main() -> int:

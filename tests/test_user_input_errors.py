@@ -65,6 +65,10 @@ def test_main_job_refuses_bad_options(fmu_path, tmp_path):
     r = subprocess.run([sys.executable, str(MAIN_JOB), "--fmu", str(tmp_path / "none.fmu")],
                        capture_output=True, text=True, timeout=600)
     _refused(r, "--fmu", "none.fmu")
+    (tmp_path / "afile").write_text("")
+    r = subprocess.run([sys.executable, str(MAIN_JOB), "--fmu", str(fmu_path), "--no-periodic",
+                        "--out", str(tmp_path / "afile" / "out")], capture_output=True, text=True, timeout=600)
+    _refused(r, "afile", "--out")
 
 
 def test_main_job_reports_the_allowed_face_width(fmu_path, tmp_path):
