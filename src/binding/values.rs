@@ -4,8 +4,10 @@
 
 use crate::fmi2::model::Experiment;
 use crate::fmi2::variables::{self, Var, N_VARIABLES, VARIABLES};
-use crate::gear::PairGeometry;
+use crate::gear::friction::iso_mean;
+use crate::gear::{FrictionLaw, PairGeometry};
 use crate::parameter::ParamError;
+use crate::rotor::params::SolidBodies;
 use crate::rotor::{param_table, Outputs, Params};
 use crate::sim::{Initialization, Input, OnViolation, SolverSettings};
 
@@ -30,7 +32,8 @@ pub fn start_values() -> Values {
 /// Parameters from the store, through the parameter table (`rotor::param_table`): every
 /// parameter of [`Params`] is read from the variable of the same name; the integer and
 /// code parameters are checked here (e.g. the friction-law code), the rest by
-/// `Params::validate` (names the parameter and the bound).
+/// `Params::validate` (names the parameter and the bound). A mass or inertia of 0 becomes
+/// the solid steel gear body of the geometry (`Params::with_solid_bodies`).
 pub fn params(values: &Values) -> Result<Params, ParamError> {
     let mut p = Params::default();
     for q in param_table::all() {
@@ -45,7 +48,35 @@ pub fn params(values: &Values) -> Result<Params, ParamError> {
         })?;
         q.set(&mut p, values[var.var as usize])?;
     }
-    Ok(p)
+    Ok(p.with_solid_bodies())
+}
+
+/// The warnings of fmi2ExitInitializationMode about the parameter set (`params` as the
+/// model uses them, `g` its geometry, the start inputs): masses or inertias implausible
+/// for the geometry (`Params::implausible_bodies`), and law 3 at an operating point
+/// outside the range Schlenk's formula was fitted in (`iso_mean::outside_fitted_range`),
+/// judged at the start inputs in steady rotation: pitch-line speed `omega1 r_w1`
+/// (`r_w1 = r_b1 / cos alpha_wt`) and `F_bt/b` from the load on gear 2,
+/// `(T_load + d_phi omega2) / (r_b2 b)` with `omega2 = omega1 z1 / z2`.
+pub fn init_warnings(p: &Params, g: &PairGeometry, omega1: f64, t_load: f64) -> Vec<String> {
+    let mut out = p.implausible_bodies(g);
+    if p.friction_law == FrictionLaw::IsoMean {
+        let v_t = (omega1 * g.rb1 / g.alpha_wt.cos()).abs();
+        let omega2 = omega1 * f64::from(g.data.z1) / f64::from(g.data.z2);
+        let load = (t_load + p.d_phi * omega2) / (g.rb2 * g.data.b * 1e3);
+        let outside = iso_mean::outside_fitted_range(v_t, load);
+        if !outside.is_empty() {
+            out.push(format!(
+                "friction_law = 3 (ISO/TR 14179-2, Schlenk) at the start inputs: {}; the \
+                 formula was fitted for v_t >= {} m/s and F_bt/b >= {} N/mm (docs/friction.md, \
+                 law 3) and extrapolates here",
+                outside.join(", "),
+                iso_mean::FITTED_V_T_MIN,
+                iso_mean::FITTED_LOAD_MIN
+            ));
+        }
+    }
+    out
 }
 
 /// The Enumeration parameter `initialization` (values checked at the set as well).
@@ -112,8 +143,12 @@ pub fn input_of(var: Var) -> Option<Input> {
 
 /// Writes the value of every output variable at `o` into `v` (table positions; other
 /// entries untouched). Straight-line stores: one match per output and value reference
-/// cost ~5 ns each in indirect-branch misses (perf, closed loop at H = 1e-5 s).
-pub fn output_values(o: &Outputs, v: &mut Values) {
+/// cost ~5 ns each in indirect-branch misses (perf, closed loop at H = 1e-5 s). `d_phi` is
+/// the rotational damper's value now (tunable): `T_damp = d_phi omega2`,
+/// `P_damp_phi = d_phi omega2^2`.
+pub fn output_values(o: &Outputs, d_phi: f64, v: &mut Values) {
+    v[Var::T_damp as usize] = d_phi * o.omega2;
+    v[Var::P_damp_phi as usize] = d_phi * o.omega2 * o.omega2;
     v[Var::T1 as usize] = o.t1;
     v[Var::omega1_filtered as usize] = o.omega1;
     v[Var::omega2 as usize] = o.omega2;
@@ -181,9 +216,21 @@ pub fn output_values(o: &Outputs, v: &mut Values) {
     v[Var::M_contact2_z as usize] = o.m_contact2[2];
 }
 
-/// Value of a calculated parameter from the pair geometry (model.md §2, §9.7).
+/// Value of a calculated parameter from the pair geometry (model.md §2, §5, §9.7).
 pub fn calculated_value(g: &PairGeometry, var: Var) -> Option<f64> {
+    let solid = || SolidBodies::of(g);
     Some(match var {
+        Var::H_V_iso => iso_mean::ohlendorf_h_v(
+            f64::from(g.data.z1),
+            f64::from(g.data.z2),
+            g.cos_beta_b,
+            g.eps_1,
+            g.eps_2,
+        ),
+        Var::m1_solid => solid().m[0],
+        Var::J1_solid => solid().j[0],
+        Var::m2_solid => solid().m[1],
+        Var::J2_solid => solid().j[1],
         Var::r_b1 => g.rb1,
         Var::r_b2 => g.rb2,
         Var::a_w => g.a_w,
