@@ -141,11 +141,7 @@ impl GearedRotorFmu {
                 .sim
                 .as_ref()
                 .ok_or_else(|| not_initialised("outputs", "are"))?;
-            values::output_values(
-                &sim.outputs(),
-                self.values[Var::d_phi as usize],
-                &mut self.output_values,
-            );
+            values::output_values(&sim.outputs(), &mut self.output_values);
             self.outputs_valid = true;
         }
         Ok(self.output_values[var.var as usize])
@@ -168,13 +164,7 @@ impl GearedRotorFmu {
             }
         }
         if let Some(sim) = self.sim.as_ref() {
-            let m = sim.model();
-            for w in values::init_warnings(
-                m.params(),
-                m.geometry(),
-                self.v(Var::omega1),
-                self.v(Var::T_load),
-            ) {
+            for w in values::init_warnings(sim.model(), sim.time()) {
                 log.log(
                     Fmi2Status::Warning,
                     Category::Warning,
@@ -322,9 +312,8 @@ impl Model for GearedRotorFmu {
         // Central difference on the dense output (order 1).
         let (om, op, delta) = sim.outputs_for_derivative();
         let (mut a, mut b) = ([0.0; N_VARIABLES], [0.0; N_VARIABLES]);
-        let d_phi = self.values[Var::d_phi as usize];
-        values::output_values(&om, d_phi, &mut a);
-        values::output_values(&op, d_phi, &mut b);
+        values::output_values(&om, &mut a);
+        values::output_values(&op, &mut b);
         for (o, &vr) in out.iter_mut().zip(vrs) {
             let var = variables::lookup(VarType::Real, vr)
                 .ok_or_else(|| BindingError::NotAvailable(format!("no Real output {vr}")))?;

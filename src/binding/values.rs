@@ -5,10 +5,10 @@
 use crate::fmi2::model::Experiment;
 use crate::fmi2::variables::{self, Var, N_VARIABLES, VARIABLES};
 use crate::gear::friction::iso_mean;
-use crate::gear::{FrictionLaw, PairGeometry};
+use crate::gear::PairGeometry;
 use crate::parameter::ParamError;
 use crate::rotor::params::SolidBodies;
-use crate::rotor::{param_table, Outputs, Params};
+use crate::rotor::{param_table, GearedRotor, Outputs, Params};
 use crate::sim::{Initialization, Input, OnViolation, SolverSettings};
 
 /// The value store: one f64 per variable, in table order (Integer, Boolean and
@@ -51,30 +51,21 @@ pub fn params(values: &Values) -> Result<Params, ParamError> {
     Ok(p.with_solid_bodies())
 }
 
-/// The warnings of fmi2ExitInitializationMode about the parameter set (`params` as the
-/// model uses them, `g` its geometry, the start inputs): masses or inertias implausible
-/// for the geometry (`Params::implausible_bodies`), and law 3 at an operating point
-/// outside the range Schlenk's formula was fitted in (`iso_mean::outside_fitted_range`),
-/// judged at the start inputs in steady rotation: pitch-line speed `omega1 r_w1`
-/// (`r_w1 = r_b1 / cos alpha_wt`) and `F_bt/b` from the load on gear 2,
-/// `(T_load + d_phi omega2) / (r_b2 b)` with `omega2 = omega1 z1 / z2`.
-pub fn init_warnings(p: &Params, g: &PairGeometry, omega1: f64, t_load: f64) -> Vec<String> {
-    let mut out = p.implausible_bodies(g);
-    if p.friction_law == FrictionLaw::IsoMean {
-        let v_t = (omega1 * g.rb1 / g.alpha_wt.cos()).abs();
-        let omega2 = omega1 * f64::from(g.data.z1) / f64::from(g.data.z2);
-        let load = (t_load + p.d_phi * omega2) / (g.rb2 * g.data.b * 1e3);
-        let outside = iso_mean::outside_fitted_range(v_t, load);
-        if !outside.is_empty() {
-            out.push(format!(
-                "friction_law = 3 (ISO/TR 14179-2, Schlenk) at the start inputs: {}; the \
-                 formula was fitted for v_t >= {} m/s and F_bt/b >= {} N/mm (docs/friction.md, \
-                 law 3) and extrapolates here",
-                outside.join(", "),
-                iso_mean::FITTED_V_T_MIN,
-                iso_mean::FITTED_LOAD_MIN
-            ));
-        }
+/// The warnings of the start (logged by fmi2ExitInitializationMode): gear bodies whose
+/// given masses or inertias are implausible for the geometry (`Params::implausible_bodies`),
+/// and friction law 3 outside its fitted range at the start inputs.
+pub fn init_warnings(model: &GearedRotor, t: f64) -> Vec<String> {
+    let mut out = model.params().implausible_bodies(model.geometry());
+    let outside = model.law3_outside_fitted_range(t);
+    if !outside.is_empty() {
+        out.push(format!(
+            "friction_law = 3 (ISO/TR 14179-2, Schlenk) at the start inputs: {}; the \
+             formula was fitted for v_t >= {} m/s and F_bt/b >= {} N/mm (docs/friction.md, \
+             law 3) and extrapolates here",
+            outside.join(", "),
+            iso_mean::FITTED_V_T_MIN,
+            iso_mean::FITTED_LOAD_MIN
+        ));
     }
     out
 }
@@ -143,12 +134,10 @@ pub fn input_of(var: Var) -> Option<Input> {
 
 /// Writes the value of every output variable at `o` into `v` (table positions; other
 /// entries untouched). Straight-line stores: one match per output and value reference
-/// cost ~5 ns each in indirect-branch misses (perf, closed loop at H = 1e-5 s). `d_phi` is
-/// the rotational damper's value now (tunable): `T_damp = d_phi omega2`,
-/// `P_damp_phi = d_phi omega2^2`.
-pub fn output_values(o: &Outputs, d_phi: f64, v: &mut Values) {
-    v[Var::T_damp as usize] = d_phi * o.omega2;
-    v[Var::P_damp_phi as usize] = d_phi * o.omega2 * o.omega2;
+/// cost ~5 ns each in indirect-branch misses (perf, closed loop at H = 1e-5 s).
+pub fn output_values(o: &Outputs, v: &mut Values) {
+    v[Var::T_damp as usize] = o.t_damp;
+    v[Var::P_damp_phi as usize] = o.p_damp_phi;
     v[Var::T1 as usize] = o.t1;
     v[Var::omega1_filtered as usize] = o.omega1;
     v[Var::omega2 as usize] = o.omega2;

@@ -665,6 +665,21 @@ impl GearedRotor {
         (self.params.d_phi * omega2 + self.inputs.t_load_at(t)) / (g.rb2 * g.cos_beta_b)
     }
 
+    /// Friction law 3 outside the operating range Schlenk's formula was fitted in, at the
+    /// inputs of t (pitch-line speed `omega1 r_w1`, load per face width `F_bt/b` from the
+    /// nominal normal force, [`GearedRotor::nominal_lambda`]): one phrase per violated
+    /// bound (docs/friction.md, law 3), empty inside or for the other laws.
+    pub fn law3_outside_fitted_range(&self, t: f64) -> Vec<String> {
+        if self.params.friction_law != FrictionLaw::IsoMean {
+            return Vec::new();
+        }
+        let g = &self.geom;
+        let v_t = (self.inputs.omega1_at(t) * g.rb1 / g.alpha_wt.cos()).abs();
+        // F_bt = lambda cos(beta_b) (transverse, in the plane of action), per mm of face.
+        let load = self.nominal_lambda(t) * g.cos_beta_b / (self.params.gear.b * 1e3);
+        crate::gear::friction::iso_mean::outside_fitted_range(v_t, load)
+    }
+
     /// Frictionless static equilibrium for the inputs at t (`model.md` §7, §9.5): constant
     /// omega1, omega2 = omega1 r_b1 / r_b2, `lambda = (d_phi omega2 + T_load)/(r_b2 cos beta_b)`
     /// and `K u = lambda G_u^T(u)` solved by fixed-point iteration (G depends on u only
@@ -809,6 +824,8 @@ impl GearedRotor {
         o.e_kin = e_kin;
         o.e_pot = e_pot;
         o.p_damp = p_damp;
+        o.t_damp = self.params.d_phi * omega2;
+        o.p_damp_phi = o.t_damp * omega2;
         for i in 0..3 {
             o.u1[i] = y[i];
             o.u2[i] = y[3 + i];

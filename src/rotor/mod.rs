@@ -173,6 +173,10 @@ pub struct Outputs {
     pub mu_mz: f64,
     /// Damper power d_phi omega2^2 + u'^T D u'.
     pub p_damp: f64,
+    /// Torque of the rotational damper on gear 2, d_phi omega2 (a load beside T_load).
+    pub t_damp: f64,
+    /// Its power, d_phi omega2^2 (the part of `p_damp` that is the load damper).
+    pub p_damp_phi: f64,
     /// Energy states.
     pub e_in: f64,
     /// Cumulative friction loss.
