@@ -173,14 +173,14 @@ impl GearedRotorFmu {
             }
         }
         let (s, source) = values::settings(&self.values, exp);
-        if log.enabled(Category::Solver) {
+        if let (true, Some(sim)) = (log.enabled(Category::Solver), self.sim.as_ref()) {
             log.log(
                 Fmi2Status::OK,
                 Category::Solver,
                 &format!(
                     "RADAU5: rtol = {:e} (from {source}), atol_i = rtol * scale_i with scales {:?}, h_max = {:e} s, start time {} s",
                     s.rtol,
-                    sim::SCALES,
+                    sim.model().scales(),
                     s.h_max,
                     Short(exp.start)
                 ),

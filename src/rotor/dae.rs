@@ -10,6 +10,7 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::PI;
 
 mod friction;
+mod hidden;
 mod memo;
 mod stick;
 
@@ -56,6 +57,8 @@ pub struct GearedRotor {
     /// The sense (+1, -1) in which a line just released from sticking slides, 0 if none
     /// (`PitchLine::Released`).
     released: f64,
+    /// Physical scale of each state component (`rotor::error_scales`).
+    scales: [f64; NY],
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -132,6 +135,7 @@ impl GearedRotor {
             memo: memo::KinematicMemo::default(),
             stick: false,
             released: 0.0,
+            scales: super::DEFAULT_PAIR_SCALES,
         })
     }
 
@@ -143,6 +147,12 @@ impl GearedRotor {
     /// The pair geometry (§2).
     pub fn geometry(&self) -> &PairGeometry {
         &self.geom
+    }
+
+    /// The physical scale of each state component, from which the absolute tolerances
+    /// follow (`atol_i = rtol scale_i`; `rotor::error_scales`).
+    pub fn scales(&self) -> &[f64; NY] {
+        &self.scales
     }
 
     /// The coefficient of friction where the parameter `mu` is it (laws 1 and 2); None for
@@ -173,6 +183,12 @@ impl GearedRotor {
         self.params.d_phi = d;
         self.damp[6] = d;
         Ok(())
+    }
+
+    /// Fixes the error scales (`rotor::error_scales`) for a start at t0 with the inputs
+    /// held now; the initialisation does this (`GearedRotor::initialize_with`).
+    pub fn set_scales_for_start(&mut self, t0: f64) {
+        self.scales = super::error_scales(self, t0);
     }
 
     /// Sets the held inputs.
@@ -257,9 +273,7 @@ impl GearedRotor {
         let omega1_dot = y[idx::OMEGA1_DOT];
         let omega2 = y[v + 6];
         let t_load = self.inputs.t_load_at(t);
-        let qf = [
-            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
-        ];
+        let qf = fr.generalised();
         let mut p_damp = 0.0;
         let mut gv = 0.0;
         for i in 0..6 {
@@ -416,9 +430,7 @@ impl GearedRotor {
             jac[(idx::E_LOSS, lam_i)] = sgn * pu * sums.w;
         }
         // Friction derivatives by one-sided differences of the friction evaluation only.
-        let base = [
-            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
-        ];
+        let base = fr.generalised();
         let cols: [usize; 15] = [
             0,
             1,
@@ -454,9 +466,7 @@ impl GearedRotor {
             let mp = if j < 6 { self.mesh_for_f(t, &yp)? } else { m };
             let (sp, mup) = self.friction(t, &yp, &mp, lam, Asker::Integrator)?;
             let frp = sp.resultants(mup, lam);
-            let pert = [
-                frp.f1.x, frp.f1.y, frp.f1.z, frp.f2.x, frp.f2.y, frp.f2.z, -frp.m2.z,
-            ];
+            let pert = frp.generalised();
             for i in 0..7 {
                 jac[(v + i, j)] += (pert[i] - base[i]) / h;
             }
@@ -521,27 +531,14 @@ impl GearedRotor {
         m: &Mesh,
         sums: &FrictionSums,
     ) -> Result<f64, ModelError> {
-        let g = &self.geom;
-        let m = *m;
-        let grow = g.constraint_row(&m);
-        let kin = kinematics(y);
         let pu = self.params.mu / sums.contact.length;
         let gu = sums.generalised_unit();
-        let v = idx::V;
-        let t_load = self.inputs.t_load_at(t);
-        // A stuck line's force eliminated first (model.md (4.14)).
-        let (gp, r_stick) = self.projected_row(y, &m, &grow, sums.stuck.as_ref());
-        let (mut a, mut b, mut r) = (0.0, 0.0, r_stick);
+        let hidden::HiddenConstraint { gp, a, r } =
+            self.hidden_constraint(t, y, m, sums.stuck.as_ref());
+        let mut b = 0.0;
         for i in 0..7 {
-            let mut force = -self.damp[i] * y[v + i] - self.stiff[i] * y[i];
-            if i == 6 {
-                force -= t_load;
-            }
-            a += gp[i] * grow[i] / self.mass[i];
             b += gp[i] * pu * gu[i] / self.mass[i];
-            r -= gp[i] * force / self.mass[i];
         }
-        r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(&m, &kin);
         let lp = r / (a + b);
         let ln = r / (a - b);
         let pos_ok = a + b > 0.0 && lp >= 0.0;
@@ -597,6 +594,7 @@ impl GearedRotor {
         let m = self.mesh(t0, &displaced(&ic.u))?;
         self.g0 = -self.geom.gap_raw(&m, 0.0);
         self.phi1_0 = ic.phi1;
+        self.set_scales_for_start(t0);
         self.consistent_state(t0, ic)
     }
 

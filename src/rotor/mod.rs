@@ -9,11 +9,13 @@ mod dae;
 pub mod param_table;
 pub(crate) mod params;
 mod problem;
+mod scales;
 
 pub use crate::gear::FrictionLaw;
 pub use dae::{GearedRotor, InitialConditions, RELEASE_BAND, STICK_RELAXATION};
 pub use params::{Inputs, Params, RotorData};
-pub use problem::{RotorProblem, SCALES};
+pub use problem::{dae_structure, RotorProblem};
+pub use scales::{error_scales, DEFAULT_PAIR_SCALES, SCALES};
 
 use crate::fmt_num::Short;
 use std::fmt;

@@ -18,7 +18,7 @@
 //!   input function really changes is f re-evaluated ([`Radau5::refresh`], J and LU kept:
 //!   the inputs enter f additively); new tunables restart the stepper;
 //! - tunable parameters (mu, d_phi), per-component absolute tolerances from physical scales
-//!   ([`SCALES`]), output derivatives from the dense output;
+//!   (`GearedRotor::scales`), output derivatives from the dense output;
 //! - a plain-data snapshot ([`SimState`]) and its versioned serialisation ([`crate::bytes`]);
 //! - on a solver failure the state stays at the last accepted step (the "last successful
 //!   time" of FMI's `fmi2Discard`);
@@ -48,9 +48,7 @@ pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
 
 use crate::bytes::DecodeError;
 use crate::radau5::{Radau5, Retake, Statistics};
-use crate::rotor::{idx, GearedRotor, Inputs, Params, NY};
-/// Moved to `rotor` (shared with `periodic`); re-exported here for existing code.
-pub use crate::rotor::{RotorProblem, SCALES};
+use crate::rotor::{idx, GearedRotor, Inputs, Params, RotorProblem, NY};
 use error::solver_err;
 use fmu_state::InitRecord;
 pub use init::{InitError, InitReport, Initialization};
@@ -160,8 +158,9 @@ impl Simulation {
                     .map_err(SimError::Init)?;
         }
         init.y0 = y0;
-        let solver = Radau5::new(&mut problem, settings.options(), t_start, y0)
-            .map_err(|e| solver_err(e, t_start))?;
+        let options = settings.options(problem.model.scales());
+        let solver =
+            Radau5::new(&mut problem, options, t_start, y0).map_err(|e| solver_err(e, t_start))?;
         let contact_lost = y0[idx::LAMBDA] < 0.0;
         let validity = Monitor::new(t_start, y0[idx::LAMBDA], y0[idx::OMEGA1]);
         Ok(Simulation {
