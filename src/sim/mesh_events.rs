@@ -8,9 +8,6 @@ use crate::radau5::{self, Problem, RhsError};
 use crate::rotor::{idx, RotorProblem, NY};
 use nalgebra::{SMatrix, SVector};
 
-/// Stop RADAU5 steps at predicted mesh events (see `Simulation::next_mesh_event`).
-pub(super) const MESH_EVENT_STOPS: bool = true;
-
 /// The kind of mesh event ([`Simulation::event_phases`]) where the sliding on a line
 /// reverses (the pitch line).
 pub(super) const REVERSAL: usize = 1;
