@@ -370,3 +370,122 @@ fn a_periodic_start_that_cannot_resolve_stick_fails_fast_and_says_why() {
             .unwrap();
     sim.do_step(0.0, 0.05).unwrap();
 }
+
+/// Serialises the simulation's state, reads it back, validates it and rebuilds from it.
+fn round_trip(sim: &Simulation) -> Simulation {
+    use geared_rotor::bytes::{Reader, Writer};
+    use geared_rotor::sim::SimState;
+    let mut w = Writer::default();
+    sim.state().write(&mut w);
+    let mut r = Reader::new(&w.buf);
+    let st = SimState::read(&mut r).unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
+    st.validate()
+        .unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
+    Simulation::from_state(&st).unwrap()
+}
+
+/// Stick phases together with look-ahead, input and tunable changes, and FMU states: at every
+/// communication point the stepper stands at or after the FMU time on a step it can retake
+/// (a stick entry on a look-ahead step once restarted it past the FMU time: its state then
+/// could not be read back, and an input change after it failed), the state round-trips,
+/// and a continued copy gives the same bits.
+#[test]
+fn stick_with_look_ahead_changes_and_states() {
+    let p = spur(0.05, FrictionLaw::Coulomb);
+    for h in [1e-4f64, 2e-5] {
+        let settings = SolverSettings {
+            rtol: 1e-6,
+            h_max: 1e-4,
+        };
+        let mut sim = Simulation::new(p, settings, 0.0, rpm(100.0), 0.0).unwrap();
+        let n = (0.1 / h).round() as usize;
+        let mut stuck_points = 0;
+        for k in 0..n {
+            let t = k as f64 * h;
+            sim.do_step(t, h)
+                .unwrap_or_else(|e| panic!("H = {h}, t = {t}: {e}"));
+            let (tf, ts) = (sim.time(), sim.stepper_time());
+            assert!(
+                ts >= tf,
+                "H = {h}: stepper at {ts} before the FMU time {tf}"
+            );
+            if sim.outputs().stick {
+                stuck_points += 1;
+                // A stuck state round-trips and continues bit-identically.
+                let mut copy = round_trip(&sim);
+                let mut orig = round_trip(&sim);
+                copy.do_step(tf, h).unwrap();
+                orig.do_step(tf, h).unwrap();
+                assert_eq!(copy.y(), orig.y());
+            }
+            if k % 97 == 0 {
+                // A load change and a tunable change while the stepper is ahead.
+                sim.set_input(Input::TLoad, if k % 2 == 0 { 5.0 } else { 0.0 })
+                    .unwrap();
+            }
+            if k % 131 == 0 {
+                sim.set_mu(if k % 2 == 0 { 0.06 } else { 0.05 }).unwrap();
+            }
+        }
+        println!(
+            "H = {h}: {stuck_points} communication points in stick; {}",
+            sim.stats()
+        );
+        assert!(stuck_points > 0, "H = {h}");
+    }
+}
+
+/// A state stuck with mu tuned up from 0 reads back (mu decides whether a line can stick,
+/// so it is checked after the tunables); tuning mu to 0 while stuck ends the stick mode.
+#[test]
+fn tuning_mu_and_stick() {
+    let p = spur(0.0, FrictionLaw::Coulomb);
+    let settings = SolverSettings {
+        rtol: 1e-6,
+        h_max: 1e-4,
+    };
+    let mut sim = Simulation::new(p, settings, 0.0, rpm(100.0), 50.0).unwrap();
+    sim.set_mu(0.05).unwrap();
+    let h = 1e-5;
+    let mut k = 0;
+    while !sim.outputs().stick {
+        sim.do_step(k as f64 * h, h).unwrap();
+        k += 1;
+        assert!(k < 20_000, "no stick within 0.2 s");
+    }
+    let back = round_trip(&sim);
+    assert!(back.outputs().stick);
+    sim.set_mu(0.0).unwrap();
+    sim.do_step(k as f64 * h, h).unwrap();
+    assert!(!sim.outputs().stick && !sim.model().stick());
+}
+
+/// The real-time mode refuses a spur pair with friction also when mu is tuned up from 0.
+#[test]
+fn real_time_mode_refuses_friction_tuned_onto_a_spur_pair() {
+    let settings = SolverSettings {
+        rtol: 1e-6,
+        h_max: 1e-4,
+    };
+    let mut sim = Simulation::new(
+        spur(0.0, FrictionLaw::Coulomb),
+        settings,
+        0.0,
+        rpm(3000.0),
+        0.0,
+    )
+    .unwrap();
+    sim.set_h_fixed(2.5e-5).unwrap();
+    let e = sim.set_mu(0.05).unwrap_err().to_string();
+    assert!(e.contains("mu") && e.contains("spur"), "{e}");
+    let mut with_mu = Simulation::new(
+        spur(0.05, FrictionLaw::Coulomb),
+        settings,
+        0.0,
+        rpm(3000.0),
+        0.0,
+    )
+    .unwrap();
+    let e = with_mu.set_h_fixed(2.5e-5).unwrap_err().to_string();
+    assert!(e.contains("h_fixed") && e.contains("spur"), "{e}");
+}

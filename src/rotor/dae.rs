@@ -170,6 +170,10 @@ impl GearedRotor {
     pub fn set_mu(&mut self, mu: f64) -> Result<(), ParamError> {
         check_mu(mu)?;
         self.params.mu = mu;
+        if !self.stick_possible() {
+            // No friction left to hold a line (law 1 with mu = 0): no stick, no release.
+            self.set_stick(false, 0.0);
+        }
         Ok(())
     }
 

@@ -280,15 +280,18 @@ impl SimState {
             }
             .into());
         }
-        if stick && !problem.model.stick_possible() {
-            return Err(DecodeError {
-                message: "a stuck contact line for a pair or law where none can stick".into(),
-            }
-            .into());
-        }
         problem.model.set_mu(mu)?;
         problem.model.set_d_phi(d_phi)?;
         problem.model.set_inputs(inputs);
+        // (After the tunables: mu decides whether a line can stick.)
+        if (stick || released != 0.0) && !problem.model.stick_possible() {
+            return Err(DecodeError {
+                message: "a stuck or released contact line for a pair or law where none can \
+                          stick"
+                    .into(),
+            }
+            .into());
+        }
         problem.model.set_stick(stick, released);
         Ok(SimState {
             solver,

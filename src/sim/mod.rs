@@ -399,6 +399,12 @@ impl Simulation {
     pub fn set_mu(&mut self, mu: f64) -> Result<(), SimError> {
         if mu != self.problem.model.params().mu {
             crate::rotor::params::check_mu(mu)?;
+            if self.h_fixed > 0.0 {
+                // The real-time mode refuses spur pairs with friction (`set_h_fixed`).
+                let mut m = self.problem.model.clone();
+                m.set_mu(mu)?;
+                realtime::check_pair(&m, self.h_fixed, "mu", mu)?;
+            }
             self.sync()?;
             self.problem.model.set_mu(mu)?;
             self.restart_pending = true;

@@ -22,6 +22,7 @@
 
 use super::{solver_err, SimError, Simulation, StepReport, NY};
 use crate::parameter::ParamError;
+use crate::rotor::GearedRotor;
 use nalgebra::SVector;
 
 /// Simplified Newton iterations per internal step (fixed, never fewer, never more).
@@ -93,21 +94,7 @@ impl Simulation {
     /// [`SimError::Param`] for a negative or non-finite value.
     pub fn set_h_fixed(&mut self, h_fixed: f64) -> Result<(), SimError> {
         check_h_fixed(h_fixed)?;
-        let model = &self.problem.model;
-        let friction = model.coulomb_mu().is_none_or(|mu| mu > 0.0);
-        if h_fixed > 0.0 && model.geometry().tan_beta_b == 0.0 && friction {
-            return Err(ParamError {
-                name: "h_fixed",
-                value: h_fixed,
-                requirement: "h_fixed = 0 for a spur pair with friction (beta = 0): its friction \
-                              jumps where a contact line enters, leaves or crosses the pitch line, \
-                              and a line can stick there; fixed steps cannot locate these events \
-                              (the first steps fail the Newton test whatever h_fixed). Use the \
-                              adaptive mode (h_fixed = 0) or a helical pair (beta != 0)"
-                    .into(),
-            }
-            .into());
-        }
+        check_pair(&self.problem.model, h_fixed, "h_fixed", h_fixed)?;
         self.h_fixed = h_fixed;
         Ok(())
     }
@@ -196,6 +183,34 @@ impl Simulation {
 }
 
 /// `h_fixed` must be 0 (adaptive) or a positive finite step size.
+/// The real-time mode (`h_fixed > 0`) refuses a spur pair with friction: its friction jumps
+/// where a contact line enters, leaves or crosses the pitch line, and a line can stick
+/// there, which fixed steps cannot locate. Checked when the mode is set and when mu is tuned
+/// (a spur pair started with mu = 0).
+/// The error names `name` with `value` (the parameter that was just set).
+pub(super) fn check_pair(
+    model: &GearedRotor,
+    h_fixed: f64,
+    name: &'static str,
+    value: f64,
+) -> Result<(), ParamError> {
+    let friction = model.coulomb_mu().is_none_or(|mu| mu > 0.0);
+    if h_fixed > 0.0 && model.geometry().tan_beta_b == 0.0 && friction {
+        return Err(ParamError {
+            name,
+            value,
+            requirement: "no real-time mode (h_fixed > 0) for a spur pair with friction \
+                          (beta = 0): its friction jumps where a contact line enters, leaves or \
+                          crosses the pitch line, and a line can stick there; fixed steps cannot \
+                          locate these events (the first steps fail the Newton test whatever \
+                          h_fixed). Use the adaptive mode (h_fixed = 0), a helical pair \
+                          (beta != 0) or mu = 0"
+                .into(),
+        });
+    }
+    Ok(())
+}
+
 pub(super) fn check_h_fixed(h_fixed: f64) -> Result<(), ParamError> {
     if h_fixed >= 0.0 && h_fixed.is_finite() {
         Ok(())

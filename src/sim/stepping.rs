@@ -132,7 +132,13 @@ impl Simulation {
             self.start_violations(&mut report)?;
         }
         let ts = self.solver.t();
-        if ts > self.validity.t_checked && ts <= t_end {
+        if report.restarted {
+            // New inputs or tunables change lambda at once: a condition that now holds at
+            // the start is an episode starting here (with the stepper still here, so that
+            // a Discard leaves a state whose FMU time is the stepper's).
+            let y = self.y_comm;
+            self.check_validity(t, &y, &mut report)?;
+        } else if ts > self.validity.t_checked && ts <= t_end {
             let y = *self.solver.y();
             self.check_validity(ts, &y, &mut report)?;
         }
@@ -155,18 +161,24 @@ impl Simulation {
             } else {
                 self.closed_loop_stop(t_end, use_events)
             };
-            let mut entered = false;
+            let (mut entered, mut defer) = (false, false);
             let r = self.solver.step(&mut self.problem, target).and_then(|tn| {
                 if use_events && at_event && tn == target {
-                    if self.sticks_at_landing() {
+                    if !self.sticks_at_landing() {
+                        self.f_after_event()?;
+                    } else if tn <= t_end {
                         self.enter_mode(true)?;
                         entered = true;
                     } else {
-                        self.f_after_event()?;
+                        // On the look-ahead part: the next doStep lands here again.
+                        defer = true;
                     }
                 }
                 Ok(tn)
             });
+            if defer {
+                self.retake_to(t_end)?;
+            }
             if entered {
                 report.note_stick(StickChange {
                     t: self.solver.t(),
@@ -178,7 +190,7 @@ impl Simulation {
             let r = match r {
                 Ok(_) if !entered => match self.stick_transitions(t_end, &mut report) {
                     Ok(()) => Ok(self.solver.t()),
-                    Err(e) => return Err(self.stop_at_last_step(e)),
+                    Err(e) => return Err(self.stop_at_last_step(t_end, e)),
                 },
                 r => r,
             };
@@ -188,7 +200,7 @@ impl Simulation {
                         t: t_before,
                         h: tn - t_before,
                     };
-                    return Err(self.stop_at_last_step(solver_err(e, t_before)));
+                    return Err(self.stop_at_last_step(t_end, solver_err(e, t_before)));
                 }
                 Ok(tn) if tn <= t_end => {
                     // Cheap test on the stepper's lambda; a change of sign is confirmed with

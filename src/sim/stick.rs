@@ -11,10 +11,12 @@
 //! - Exit: the margin becomes negative (the force needed exceeds the bound, e.g. as the
 //!   line moves away from the pitch point or a second pair takes part of the load).
 //!
-//! A transition located after the FMU time being stepped to (on a look-ahead step) is not
-//! taken there: the step is retaken to end on the FMU time instead, and the next doStep
-//! finds the transition again. So a retake at the next communication point (`sync`) always
-//! runs in the mode the step was taken with.
+//! A transition located after the FMU time being stepped to (on a look-ahead step), or any
+//! other change of f found at the end of such a step (a landing at the pitch line, the end
+//! of a release), is not taken there: the step is retaken to end on the FMU time instead,
+//! and the next doStep finds the transition again. So the stepper never stands past the FMU
+//! time in another mode than its step was taken with, and a retake at the next
+//! communication point (`sync`) always runs with the f of its step.
 
 // `!(a >= b)` on purpose: NaN counts as outside, which `a < b` would let pass.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -62,9 +64,14 @@ impl Simulation {
         let mut ys = SVector::<f64, NY>::zeros();
         if model.released() != 0.0 && !model.stick() {
             // A released line leaves the band: the law applies as usual from here; f is the
-            // same there when it slides in the released sense, else it jumps (restart).
+            // same there when it slides in the released sense, else it jumps (restart). On
+            // a look-ahead step the step is first retaken to end on t_end (a retake there
+            // must run with the f the step was taken with).
             if let Some(x_n) = model.pitch_line_sliding(tn, &y_n) {
                 if x_n.abs() > model.release_band(&y_n) {
+                    if tn > t_end {
+                        return self.retake_to(t_end);
+                    }
                     let same = x_n.signum() == model.released();
                     self.problem.model.clear_release();
                     if !same {
@@ -99,6 +106,9 @@ impl Simulation {
             let rolling = (y_n[idx::OMEGA1] + y_n[idx::V + 6]).abs() * model.geometry().p_bt;
             if x_n.abs() <= AT_PITCH_LINE * rolling {
                 if model.stick_margin(tn, &y_n).is_some_and(|g| g >= 0.0) {
+                    if tn > t_end {
+                        return self.retake_to(t_end);
+                    }
                     return self.switch_stick(tn, true, report).map_err(|e| {
                         self.restart_pending = true;
                         super::error::solver_err(e, tn)
@@ -154,7 +164,7 @@ impl Simulation {
     }
 
     /// The last step retaken to end on `t` (no-op at its end).
-    fn retake_to(&mut self, t: f64) -> Result<(), SimError> {
+    pub(super) fn retake_to(&mut self, t: f64) -> Result<(), SimError> {
         if t >= self.solver.t() {
             return Ok(());
         }
@@ -196,13 +206,9 @@ impl Simulation {
     pub(super) fn enter_mode(&mut self, on: bool) -> Result<(), radau5::Error> {
         let t = self.solver.t();
         let model = &mut self.problem.model;
-        let release = if on {
-            0.0
-        } else {
-            -model
-                .stick_state(t, self.solver.y())
-                .map_or(0.0, |(_, f_w)| f_w)
-                .signum()
+        let release = match model.stick_state(t, self.solver.y()) {
+            Some((_, f_w)) if !on && f_w != 0.0 => -f_w.signum(),
+            _ => 0.0,
         };
         model.set_stick(on, release);
         let mut y = *self.solver.y();

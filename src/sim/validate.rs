@@ -54,17 +54,21 @@ impl Simulation {
             return Ok(());
         }
         let t = self.solver.t();
-        Err(self.stop_at_last_step(SimError::WorkLimit {
-            limit: self.max_internal_steps,
-            t,
+        Err(self.stop_at_last_step(
             t_end,
-        }))
+            SimError::WorkLimit {
+                limit: self.max_internal_steps,
+                t,
+                t_end,
+            },
+        ))
     }
 
-    /// Ends a doStep early: the FMU time and the last successful time become those of the
-    /// last accepted step, and `e` is returned for the caller to pass on.
-    pub(super) fn stop_at_last_step(&mut self, e: SimError) -> SimError {
-        let ts = self.solver.t();
+    /// Ends a doStep to `t_end` early: the FMU time and the last successful time become
+    /// those of the last accepted step (t_end if that step went past it, look-ahead), and
+    /// `e` is returned for the caller to pass on.
+    pub(super) fn stop_at_last_step(&mut self, t_end: f64, e: SimError) -> SimError {
+        let ts = self.solver.t().min(t_end);
         self.set_comm(ts);
         self.last_successful_time = ts;
         if !matches!(e, SimError::WorkLimit { .. }) {

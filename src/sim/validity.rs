@@ -30,7 +30,8 @@ use crate::rotor::{idx, NY};
 use nalgebra::SVector;
 use std::fmt;
 
-/// Width of the bracket at which the location stops, in s.
+/// Width of the bracket at which the location stops, in s (or 8 ulps of t, where that is
+/// more: beyond t ~ 500 s).
 pub const LOCATE_TOL: f64 = 1e-12;
 
 /// Most violations one communication interval reports (further ones are counted only).
@@ -171,8 +172,10 @@ pub(super) fn locate(
     mut gb: f64,
 ) -> f64 {
     let mut side = 0i32;
+    // Far from t = 0 the bracket cannot shrink below a few ulps of t.
+    let tol = LOCATE_TOL.max(8.0 * f64::EPSILON * b.abs());
     for _ in 0..200 {
-        if b - a <= LOCATE_TOL {
+        if b - a <= tol {
             break;
         }
         let mut c = b - gb * (b - a) / (gb - ga);

@@ -72,7 +72,12 @@ impl GearedRotor {
     /// which the line starts to slide (`PitchLine::Released`); entering clears it.
     pub fn set_stick(&mut self, on: bool, release: f64) {
         self.stick = on && self.stick_possible();
-        self.released = if self.stick { 0.0 } else { release.signum() };
+        // (f64::signum(0.0) is 1: a zero release sense must stay 0.)
+        self.released = if self.stick || !self.stick_possible() || release == 0.0 {
+            0.0
+        } else {
+            release.signum()
+        };
     }
 
     /// The sense (+1, -1) in which a just released line slides while its sliding speed is
