@@ -13,9 +13,7 @@ pub use state::BindingState;
 
 use crate::fmi2::bounds;
 use crate::fmi2::logging::{Category, Logger};
-use crate::fmi2::model::{Experiment, Model};
-use crate::fmi2::state_machine::Phase;
-use crate::fmi2::types::Fmi2Status;
+use crate::fmi2::model::{Experiment, Model, Phase, Status};
 use crate::fmi2::variables::{self, Causality, Var, VarType, Variable, N_VARIABLES};
 use crate::fmt_num::Short;
 use crate::sim::{self, Initialization, Input, SimError, Simulation, RTOL_MAX, RTOL_MIN};
@@ -151,7 +149,7 @@ impl GearedRotorFmu {
             let r = sim.init_report();
             if init == Initialization::Periodic && log.enabled(Category::Solver) {
                 log.log(
-                    Fmi2Status::OK,
+                    Status::OK,
                     Category::Solver,
                     &format!(
                         "initialization = periodic: orbit by chord shooting from the static equilibrium, \
@@ -165,7 +163,7 @@ impl GearedRotorFmu {
         let (s, source) = values::settings(&self.values, exp);
         if log.enabled(Category::Solver) {
             log.log(
-                Fmi2Status::OK,
+                Status::OK,
                 Category::Solver,
                 &format!(
                     "RADAU5: rtol = {:e} (from {source}), atol_i = rtol * scale_i with scales {:?}, h_max = {:e} s, start time {} s",
@@ -178,7 +176,7 @@ impl GearedRotorFmu {
             let h_fixed = self.v(Var::h_fixed);
             if h_fixed > 0.0 {
                 log.log(
-                    Fmi2Status::OK,
+                    Status::OK,
                     Category::Solver,
                     &format!(
                         "real-time mode: h_fixed = {h_fixed:e} s: per doStep of H, ceil(H/h_fixed) equal steps of {} Newton iterations, one Jacobian and LU pair (per doStep, or per 1e-4 s on a fixed time grid when H < 1e-4 s), no error control",
@@ -222,7 +220,7 @@ impl Model for GearedRotorFmu {
         if let Some(sim) = &self.sim {
             if log.enabled(Category::Solver) {
                 log.log(
-                    Fmi2Status::OK,
+                    Status::OK,
                     Category::Solver,
                     &format!(
                         "RADAU5 totals at t = {}: {}",
@@ -313,10 +311,15 @@ impl Model for GearedRotorFmu {
         Ok(())
     }
 
-    /// Returns fmi2Warning when an episode outside the model's validity started in the
+    /// Returns Warning when an episode outside the model's validity started in the
     /// step (lift-off, drive reversal; `on_lift_off = warn`), with a message.
-    fn do_step(&mut self, ccp: f64, h: f64, log: &Logger) -> Result<Fmi2Status, BindingError> {
-        let func = "fmi2DoStep";
+    fn do_step(
+        &mut self,
+        func: &'static str,
+        ccp: f64,
+        h: f64,
+        log: &Logger,
+    ) -> Result<Status, BindingError> {
         let policy = values::on_violation(&self.values).unwrap_or_default();
         let max_steps = self.v(Var::max_internal_steps) as u64;
         let sim = self
@@ -329,18 +332,14 @@ impl Model for GearedRotorFmu {
         let r = sim.do_step(ccp, h);
         self.outputs_valid = false;
         let report = r?;
-        let mut status = Fmi2Status::OK;
+        let mut status = Status::OK;
         for v in report.violations.iter().flatten() {
-            log.log(
-                Fmi2Status::Warning,
-                Category::Warning,
-                &format!("{func}: {v}"),
-            );
-            status = Fmi2Status::Warning;
+            log.log(Status::Warning, Category::Warning, &format!("{func}: {v}"));
+            status = Status::Warning;
         }
         if report.violations_dropped > 0 {
             log.log(
-                Fmi2Status::Warning,
+                Status::Warning,
                 Category::Warning,
                 &format!(
                     "{func}: {} further episodes outside the model's validity in [{t0}, {}] s",
@@ -356,7 +355,7 @@ impl Model for GearedRotorFmu {
                 "back in contact (lambda >= 0)"
             };
             log.log(
-                Fmi2Status::OK,
+                Status::OK,
                 Category::Events,
                 &format!(
                     "contact_lost changed {} time(s) in [{}, {}] s, first at t = {} s; at the end the teeth are {what}",
@@ -369,7 +368,7 @@ impl Model for GearedRotorFmu {
         }
         if log.enabled(Category::Solver) {
             log.log(
-                Fmi2Status::OK,
+                Status::OK,
                 Category::Solver,
                 &format!(
                     "doStep [{}, {}] s{}: {}",
