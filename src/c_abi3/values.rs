@@ -26,8 +26,7 @@ pub unsafe extern "C" fn fmi3GetFloat64(
             check_n_values(func, nvr, n_values)?;
             let vrs = slice(func, "valueReferences", vr, nvr)?;
             let out = slice_mut(func, "values", values, nvr)?;
-            inst.inner
-                .get(func, VarType::Real, vrs, |i, x| out[i] = x)?;
+            inst.get_float64(func, vrs, out)?;
             OK
         })
     }
@@ -51,7 +50,7 @@ pub unsafe extern "C" fn fmi3SetFloat64(
             check_n_values(func, nvr, n_values)?;
             let vrs = slice(func, "valueReferences", vr, nvr)?;
             let vals = slice(func, "values", values, nvr)?;
-            inst.inner.set(func, VarType::Real, vrs, &|i| vals[i])?;
+            inst.set_float64(func, vrs, vals)?;
             OK
         })
     }

@@ -86,6 +86,11 @@ impl<M: Model> Instance<M> {
         self.phase
     }
 
+    /// The instance's time: the model's once it runs, else the experiment's start time.
+    pub fn time(&self) -> f64 {
+        self.model.time().unwrap_or(self.experiment.start)
+    }
+
     /// The model.
     pub fn model(&self) -> &M {
         &self.model

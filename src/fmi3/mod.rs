@@ -47,6 +47,11 @@ pub const FMI3: Dialect = Dialect {
     deserialize: call("fmi3DeserializeFMUState", allowed::FMU_STATE),
 };
 
+/// Value reference of the independent variable `time`, which the FMI 3.0 description
+/// declares (FMI 3.0 requires one; `build/fmi3_description.rs`) and FMI 2.0 leaves
+/// implicit: read with fmi3GetFloat64, never set.
+pub const TIME_VR: u32 = 0;
+
 /// The integer types of FMI 3.0 this FMU has variables of.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IntKind {
@@ -148,6 +153,54 @@ impl<M: Model> Instance3<M> {
         Ok(())
     }
 
+    /// fmi3GetFloat64: the Real variables, and the independent variable `time`
+    /// ([`TIME_VR`]; a master reads the other variables without the per-reference test of
+    /// the general path).
+    ///
+    /// # Errors
+    /// As [`Instance::get`].
+    pub fn get_float64(
+        &mut self,
+        func: &'static str,
+        vrs: &[u32],
+        out: &mut [f64],
+    ) -> Result<(), FmuError<M::Error>> {
+        if !vrs.contains(&TIME_VR) {
+            return self.inner.get(func, VarType::Real, vrs, |i, x| out[i] = x);
+        }
+        self.inner.guard(func, self.inner.dialect().get)?;
+        for (i, &vr) in vrs.iter().enumerate() {
+            if vr == TIME_VR {
+                out[i] = self.inner.time();
+            } else {
+                self.inner
+                    .get(func, VarType::Real, &[vr], |_, x| out[i] = x)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// fmi3SetFloat64: the independent variable `time` cannot be set.
+    ///
+    /// # Errors
+    /// As [`Instance::set`]; [`FmuError::NotSettable`] for `time`.
+    pub fn set_float64(
+        &mut self,
+        func: &'static str,
+        vrs: &[u32],
+        values: &[f64],
+    ) -> Result<(), FmuError<M::Error>> {
+        if vrs.contains(&TIME_VR) {
+            self.inner.guard(func, self.inner.dialect().set)?;
+            return Err(FmuError::NotSettable {
+                func,
+                name: "time",
+                why: "it is the independent variable (fmi3EnterInitializationMode and fmi3DoStep set it)",
+            });
+        }
+        self.inner.set(func, VarType::Real, vrs, &|i| values[i])
+    }
+
     /// fmi3DoStep: integrates to `ccp + h`; with earlyReturnAllowed it may end earlier at an
     /// event of the model (docs/fmu.md "FMI 3.0"). The outcome is defined whatever the
     /// result (lastSuccessfulTime is the model time).
@@ -216,4 +269,12 @@ pub fn check_n_values<E>(
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn time_value_reference_is_the_description_s() {
+        assert_eq!(super::TIME_VR, crate::fmi3_description::TIME_VR);
+    }
 }
