@@ -32,14 +32,14 @@ pub mod c_abi;
 pub mod c_abi3;
 pub mod fmi2;
 pub mod fmi3;
-pub mod fmt_num;
-pub mod gear;
-pub mod hash;
 /// The build-time generator of the FMI 3.0 model description (build.rs includes the same
 /// file); compiled here only for its unit tests.
 #[cfg(test)]
 #[path = "../build/fmi3_description.rs"]
 mod fmi3_description;
+pub mod fmt_num;
+pub mod gear;
+pub mod hash;
 /// The build-time checker of the model description (build.rs includes the same file);
 /// compiled here only for its unit tests, not into the FMU library.
 #[cfg(test)]
