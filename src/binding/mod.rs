@@ -13,10 +13,12 @@ pub use state::BindingState;
 
 use crate::fmi2::bounds;
 use crate::fmi2::logging::{Category, Logger};
-use crate::fmi2::model::{Experiment, Model, Phase, Status};
+use crate::fmi2::model::{Experiment, Model, Phase, Status, StepEnd};
 use crate::fmi2::variables::{self, Causality, Var, VarType, Variable, N_VARIABLES};
 use crate::fmt_num::Short;
-use crate::sim::{self, Initialization, Input, SimError, Simulation, RTOL_MAX, RTOL_MIN};
+use crate::sim::{
+    self, Initialization, Input, OnViolation, SimError, Simulation, RTOL_MAX, RTOL_MIN,
+};
 use values::{input_of, Values};
 
 /// The geared-rotor FMU model: parameter and input values and, once initialised, the
@@ -142,6 +144,102 @@ impl GearedRotorFmu {
             self.outputs_valid = true;
         }
         Ok(self.output_values[var.var as usize])
+    }
+
+    /// doStep from `ccp` over `h`; with `until_event` (FMI 3.0 early return allowed) and
+    /// `on_lift_off = warn`, it ends at the located start of an episode outside the validity.
+    fn step(
+        &mut self,
+        func: &'static str,
+        ccp: f64,
+        h: f64,
+        log: &Logger,
+        until_event: bool,
+    ) -> Result<StepEnd, BindingError> {
+        let policy = values::on_violation(&self.values).unwrap_or_default();
+        let early = until_event && policy == OnViolation::Warn;
+        let max_steps = self.v(Var::max_internal_steps) as u64;
+        let sim = self
+            .sim
+            .as_mut()
+            .ok_or_else(|| BindingError::NotAvailable("no simulation".into()))?;
+        let t0 = sim.time();
+        // Early return: the simulation stops at the located instant as for discard.
+        sim.set_on_violation(if early { OnViolation::Discard } else { policy });
+        sim.set_max_internal_steps(max_steps);
+        let r = sim.do_step(ccp, h);
+        // The FMU's own policy again (it is part of an FMU state).
+        sim.set_on_violation(policy);
+        self.outputs_valid = false;
+        let report = match r {
+            Err(SimError::Validity(v)) if early => {
+                log.log(
+                    Status::Warning,
+                    Category::Warning,
+                    &format!(
+                        "{func}: {v}; returning early at t = {} s (earlyReturn, the step was to end at {} s)",
+                        Short(v.t),
+                        Short(ccp + h)
+                    ),
+                );
+                return Ok(StepEnd {
+                    status: Status::Warning,
+                    early_return: Some(v.t),
+                });
+            }
+            r => r?,
+        };
+        let mut status = Status::OK;
+        for v in report.violations.iter().flatten() {
+            log.log(Status::Warning, Category::Warning, &format!("{func}: {v}"));
+            status = Status::Warning;
+        }
+        if report.violations_dropped > 0 {
+            log.log(
+                Status::Warning,
+                Category::Warning,
+                &format!(
+                    "{func}: {} further episodes outside the model's validity in [{t0}, {}] s",
+                    report.violations_dropped,
+                    ccp + h
+                ),
+            );
+        }
+        if report.contact_changes > 0 && log.enabled(Category::Events) {
+            let what = if report.contact_lost {
+                "lifted off (lambda < 0)"
+            } else {
+                "back in contact (lambda >= 0)"
+            };
+            log.log(
+                Status::OK,
+                Category::Events,
+                &format!(
+                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {} s; at the end the teeth are {what}",
+                    report.contact_changes,
+                    Short(t0),
+                    Short(ccp + h),
+                    Short(report.first_change_time)
+                ),
+            );
+        }
+        if log.enabled(Category::Solver) {
+            log.log(
+                Status::OK,
+                Category::Solver,
+                &format!(
+                    "doStep [{}, {}] s{}: {}",
+                    Short(t0),
+                    Short(ccp + h),
+                    if report.restarted { " (restart)" } else { "" },
+                    report.stats
+                ),
+            );
+        }
+        Ok(StepEnd {
+            status,
+            early_return: None,
+        })
     }
 
     fn log_exit_initialization(&self, exp: &Experiment, log: &Logger) {
@@ -320,66 +418,21 @@ impl Model for GearedRotorFmu {
         h: f64,
         log: &Logger,
     ) -> Result<Status, BindingError> {
-        let policy = values::on_violation(&self.values).unwrap_or_default();
-        let max_steps = self.v(Var::max_internal_steps) as u64;
-        let sim = self
-            .sim
-            .as_mut()
-            .ok_or_else(|| BindingError::NotAvailable("no simulation".into()))?;
-        let t0 = sim.time();
-        sim.set_on_violation(policy);
-        sim.set_max_internal_steps(max_steps);
-        let r = sim.do_step(ccp, h);
-        self.outputs_valid = false;
-        let report = r?;
-        let mut status = Status::OK;
-        for v in report.violations.iter().flatten() {
-            log.log(Status::Warning, Category::Warning, &format!("{func}: {v}"));
-            status = Status::Warning;
-        }
-        if report.violations_dropped > 0 {
-            log.log(
-                Status::Warning,
-                Category::Warning,
-                &format!(
-                    "{func}: {} further episodes outside the model's validity in [{t0}, {}] s",
-                    report.violations_dropped,
-                    ccp + h
-                ),
-            );
-        }
-        if report.contact_changes > 0 && log.enabled(Category::Events) {
-            let what = if report.contact_lost {
-                "lifted off (lambda < 0)"
-            } else {
-                "back in contact (lambda >= 0)"
-            };
-            log.log(
-                Status::OK,
-                Category::Events,
-                &format!(
-                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {} s; at the end the teeth are {what}",
-                    report.contact_changes,
-                    Short(t0),
-                    Short(ccp + h),
-                    Short(report.first_change_time)
-                ),
-            );
-        }
-        if log.enabled(Category::Solver) {
-            log.log(
-                Status::OK,
-                Category::Solver,
-                &format!(
-                    "doStep [{}, {}] s{}: {}",
-                    Short(t0),
-                    Short(ccp + h),
-                    if report.restarted { " (restart)" } else { "" },
-                    report.stats
-                ),
-            );
-        }
-        Ok(status)
+        self.step(func, ccp, h, log, false).map(|end| end.status)
+    }
+
+    /// With `on_lift_off = warn`, the step ends early at the located start of an episode
+    /// outside the validity (lift-off, drive reversal: the instant `on_lift_off = discard`
+    /// stops at), with Warning and the message; the model is at that instant and runs on
+    /// from it. With `on_lift_off = discard` as [`Model::do_step`] (Discard).
+    fn do_step_until_event(
+        &mut self,
+        func: &'static str,
+        ccp: f64,
+        h: f64,
+        log: &Logger,
+    ) -> Result<StepEnd, BindingError> {
+        self.step(func, ccp, h, log, true)
     }
 
     fn step_tolerance(t: f64, h: f64) -> f64 {
