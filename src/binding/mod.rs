@@ -167,10 +167,20 @@ impl GearedRotorFmu {
         // Early return: the simulation stops at the located instant as for discard.
         sim.set_on_violation(if early { OnViolation::Discard } else { policy });
         sim.set_max_internal_steps(max_steps);
-        let r = sim.do_step(ccp, h);
+        let mut r = sim.do_step(ccp, h);
         // The FMU's own policy again (it is part of an FMU state).
         sim.set_on_violation(policy);
         self.outputs_valid = false;
+        // An episode that holds at the start of the step (the start state, or at once after
+        // an input change at the point) is no early return (the step would not advance):
+        // it is reported as with on_lift_off = warn, and the step goes on from the point.
+        let mut at_start = None;
+        if let Err(SimError::Validity(v)) = &r {
+            if early && v.t <= ccp {
+                at_start = Some(*v);
+                r = sim.do_step(ccp, h);
+            }
+        }
         let report = match r {
             Err(SimError::Validity(v)) if early => {
                 log.log(
@@ -190,7 +200,7 @@ impl GearedRotorFmu {
             r => r?,
         };
         let mut status = Status::OK;
-        for v in report.violations.iter().flatten() {
+        for v in at_start.iter().chain(report.violations.iter().flatten()) {
             log.log(Status::Warning, Category::Warning, &format!("{func}: {v}"));
             status = Status::Warning;
         }
@@ -423,8 +433,9 @@ impl Model for GearedRotorFmu {
 
     /// With `on_lift_off = warn`, the step ends early at the located start of an episode
     /// outside the validity (lift-off, drive reversal: the instant `on_lift_off = discard`
-    /// stops at), with Warning and the message; the model is at that instant and runs on
-    /// from it. With `on_lift_off = discard` as [`Model::do_step`] (Discard).
+    /// stops at) when it lies inside the step, with Warning and the message; the model is at
+    /// that instant and runs on from it. An episode that holds at the step's start is
+    /// reported and the step completes. With `on_lift_off = discard` as [`Model::do_step`].
     fn do_step_until_event(
         &mut self,
         func: &'static str,

@@ -33,8 +33,8 @@ pub unsafe extern "C" fn fmi3GetOutputDerivatives(
 /// fmi3DoStep: integrates to currentCommunicationPoint + communicationStepSize, or, when
 /// earlyReturnAllowed was set at instantiation, up to an event of the model inside the step
 /// (lift-off, drive reversal; docs/fmu.md "FMI 3.0"), with `*earlyReturn = true` and
-/// `*lastSuccessfulTime` there. The out-arguments are written whatever the status (when
-/// their pointers are not NULL; NULL ones are an error).
+/// `*lastSuccessfulTime` there. The out-arguments are written whatever the status (false
+/// and the model time when the call fails before stepping; NULL ones are an error).
 ///
 /// # Safety
 /// Valid instance; the out-pointers NULL or writable.
@@ -52,6 +52,16 @@ pub unsafe extern "C" fn fmi3DoStep(
     let func = "fmi3DoStep";
     unsafe {
         call(c, func, |inst| {
+            // Defined out-arguments whatever happens next (the model time, no event).
+            let t = inst.inner.time();
+            for p in [event_handling_needed, terminate_simulation, early_return] {
+                if !p.is_null() {
+                    *p = FMI3_FALSE;
+                }
+            }
+            if !last_successful_time.is_null() {
+                *last_successful_time = t;
+            }
             for (p, arg) in [
                 (event_handling_needed.is_null(), "eventHandlingNeeded"),
                 (terminate_simulation.is_null(), "terminateSimulation"),
