@@ -34,8 +34,7 @@ def test_same_interface_as_fmi2(pkg2, pkg3):
     """Every variable of the 2.0 description, with the same value reference, causality,
     variability, start, bounds, unit and display unit; the only addition is the
     independent variable time that FMI 3.0 requires."""
-    md2 = pkg2.md
-    md3 = pkg3.md
+    md2, md3 = (pkg.md for pkg in (pkg2, pkg3))
     assert md3.fmiVersion == "3.0" and md3.guid == md2.guid
     v2 = {v.name: v for v in md2.modelVariables}
     v3 = {v.name: v for v in md3.modelVariables}
