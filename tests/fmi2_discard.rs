@@ -75,4 +75,23 @@ fn tooth_lift_off_is_logged_under_log_events() {
             .any(|m| m.1 == "logStatusWarning" && m.2.contains("lift-off at t = ")),
         "{msgs:?}"
     );
+    // logEvents names the located instant of the change, the one of the lift-off warning
+    // (not the end of the step that revealed it).
+    let after = |m: &str, key: &str| -> f64 {
+        let rest = &m[m.find(key).unwrap() + key.len()..];
+        rest.split(' ').next().unwrap().parse().unwrap()
+    };
+    let ev = msgs
+        .iter()
+        .find(|m| m.1 == "logEvents" && m.2.contains("contact_lost changed"))
+        .unwrap();
+    let warn = msgs
+        .iter()
+        .find(|m| m.1 == "logStatusWarning" && m.2.contains("lift-off at t = "))
+        .unwrap();
+    let (t_ev, t_warn) = (
+        after(&ev.2, "first at t = "),
+        after(&warn.2, "lift-off at t = "),
+    );
+    assert!((t_ev - t_warn).abs() <= 1e-9, "{t_ev} vs {t_warn}");
 }

@@ -26,6 +26,9 @@ CASES = {
     "helical": ({}, 314.159),
     "spur": ({"beta": 0.0}, 314.159),
     "helical-200rad/s": ({}, 200.0),
+    # no rotational damper: the load torque alone loads the mesh (the periodic module's
+    # scales once ignored it and called this stable orbit unstable)
+    "no-damper-100Nm": ({"d_phi": 0.0, "T_load": 100.0}, 314.159),
 }
 POSITIONS = ["u1.x", "u1.y", "u2.x", "u2.y"]
 
@@ -74,7 +77,8 @@ def test_periodic_start_is_the_shooting_orbit(pkg, tmp_path, case):
 @pytest.mark.parametrize("case", list(CASES))
 def test_periodic_start_stays_periodic(pkg, case):
     """Every mesh period over 50 ms repeats the first one to 1e-6 of its range (T1, Fn, TE
-    and the centre positions)."""
+    and the centre positions); 1e-6 of the range plus 1e-14 m for TE, whose range without
+    the damper is only 4.3 nm (the run's absolute error allowance is 1e-17 m per step)."""
     params, omega1 = CASES[case]
     period = mesh_period(27, omega1)
     m = 40  # samples per period
@@ -89,7 +93,8 @@ def test_periodic_start_stays_periodic(pkg, case):
         rng = np.ptp(first)
         assert rng > 0.0, name
         dev = max(np.max(np.abs(x[k * m: k * m + m + 1] - first)) for k in range(1, periods))
-        assert dev <= 1e-6 * rng, f"{case}: {name} period k vs 1: {dev:.3e} = {dev / rng:.2e} of the range"
+        floor = 1e-14 if name == "TE" else 0.0
+        assert dev <= 1e-6 * rng + floor, f"{case}: {name} period k vs 1: {dev:.3e} = {dev / rng:.2e} of the range"
 
 
 def test_periodic_start_removes_the_transient(pkg):
@@ -147,6 +152,11 @@ def test_initialization_errors_say_why(pkg):
         inst.slave.setupExperiment(startTime=0.0)
         inst.set({"initialization": 3, "omega1": 0.0})
         inst.slave.enterInitializationMode()
+        # A calculated parameter comes from the parameters alone: its read neither builds
+        # the start state (here it cannot exist) nor fails; r_b1 = z1 m_n cos(alpha_t) /
+        # (2 cos beta) of the default pair (model.md §2: 26.793197 mm).
+        assert inst.get1("r_b1") == pytest.approx(26.793197e-3, rel=1e-7)
+        assert not inst.messages(FMI2_ERROR)
         assert call_status(inst.slave.exitInitializationMode) == FMI2_ERROR
         msg = " ".join(inst.messages(FMI2_ERROR))
         assert "omega1" in msg and "initialization = rest" in msg, msg

@@ -177,3 +177,35 @@ def test_warn_reports_the_same_instant(pkg, case):
         assert abs(t_msg - t_ref) <= 1e-9, (t_msg, t_ref)
     finally:
         inst.terminate_and_free()
+
+
+def test_discard_instant_does_not_depend_on_the_communication_step(pkg):
+    """T_load set to -200 N m at 5 ms (a held step, no ramp): with on_lift_off = discard the
+    last successful time is the located instant for every communication step size, also
+    when the steps are much shorter than the solver's (H = 1e-5 s: RADAU5's step runs past
+    the communication point where the lift-off lies). The instants agree to 1e-9 s, Fn
+    there is ~0, and the instant lies inside the discarded doStep."""
+    t_set = 5e-3
+    found = {}
+    for h in (1e-3, 1e-4, 1e-5):
+        inst = pkg.instance(f"discard_h{h:g}")
+        try:
+            inst.initialize({"on_lift_off": 2}, tolerance=1e-6)
+            n_before = round(t_set / h)
+            for _ in range(n_before):
+                assert step(inst, h) == FMI2_OK
+            inst.set({"T_load": -200.0})
+            status = FMI2_OK
+            while status == FMI2_OK:
+                status = step(inst, h)
+                assert inst.time < 0.02
+            assert status == FMI2_DISCARD, status
+            t_last = inst.slave.getRealStatus(fmi2LastSuccessfulTime)
+            assert inst.time - h <= t_last < inst.time, (h, t_last, inst.time)
+            fn = inst.get1("Fn")
+            assert abs(fn) <= 1e-3, (h, fn)
+            found[h] = t_last
+        finally:
+            inst.free()
+    ts = list(found.values())
+    assert max(ts) - min(ts) <= 1e-9, found

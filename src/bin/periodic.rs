@@ -1,11 +1,12 @@
 //! Periodic steady state of the geared rotor by shooting (RADAU5, Floquet multipliers) and
 //! by the n-th order harmonic approach, n = 1..12; reproduces the paper's Fig. 3.
 //!
-//! Usage: `cargo run --release --bin periodic -- [--params FILE] [--omega1 W] [--out DIR]
-//! [--n-max N] [--json]`
+//! Usage: `cargo run --release --bin periodic -- [--params FILE] [--omega1 W] [--t-load T]
+//! [--out DIR] [--n-max N] [--json]`
 //!
 //! FILE holds `name = value` lines with the FMU's parameter names in SI units (rad for
-//! angles), e.g. `mu = 0.1` or `k1.x = 1e9`; `#` starts a comment. Writes to DIR (default
+//! angles), e.g. `mu = 0.1` or `k1.x = 1e9`, and may set the constant inputs `omega1`
+//! (rad/s) and `T_load` (N m) the same way; `#` starts a comment. Writes to DIR (default
 //! `out/periodic`): `shooting_orbit.csv`, `harmonic_orbit_n4.csv`, `convergence.csv`,
 //! `floquet.csv`, `fig3.svg`. With `--json` the last line printed is one JSON object
 //! `{"shooting_residual": .., "floquet_max_abs": .., "hb": [{"n": 1, "max_rel_dev": ..}, ..]}`.
@@ -21,6 +22,7 @@ use std::process::ExitCode;
 struct Args {
     params: Params,
     omega1: f64,
+    t_load: f64,
     out: PathBuf,
     n_max: usize,
     json: bool,
@@ -39,6 +41,7 @@ fn parse_args() -> Result<Args, String> {
     let mut a = Args {
         params: Params::default(),
         omega1: 314.159,
+        t_load: 0.0,
         out: PathBuf::from("out/periodic"),
         n_max: 12,
         json: false,
@@ -53,6 +56,11 @@ fn parse_args() -> Result<Args, String> {
                 a.omega1 = value("a speed in rad/s")?
                     .parse()
                     .map_err(|e| format!("--omega1: {e}"))?
+            }
+            "--t-load" => {
+                a.t_load = value("a load torque in N m")?
+                    .parse()
+                    .map_err(|e| format!("--t-load: {e}"))?
             }
             "--n-max" => {
                 a.n_max = value("an order")?
@@ -74,13 +82,17 @@ fn parse_args() -> Result<Args, String> {
                         .trim()
                         .parse()
                         .map_err(|e| format!("{path}:{}: {e}", no + 1))?;
-                    set_param(&mut a.params, k.trim(), v)
-                        .map_err(|e| format!("{path}:{}: {e}", no + 1))?;
+                    match k.trim() {
+                        "omega1" => a.omega1 = v,
+                        "T_load" => a.t_load = v,
+                        name => set_param(&mut a.params, name, v)
+                            .map_err(|e| format!("{path}:{}: {e}", no + 1))?,
+                    }
                 }
             }
             "-h" | "--help" => {
                 return Err(
-                    "usage: periodic [--params FILE] [--omega1 W] [--out DIR] [--n-max N] [--json]"
+                    "usage: periodic [--params FILE] [--omega1 W] [--t-load T] [--out DIR] [--n-max N] [--json]"
                         .into(),
                 )
             }
@@ -176,7 +188,7 @@ fn fig3_svg(orbit: &[OrbitPoint], dots: &[OrbitPoint], n: usize) -> String {
 }
 
 fn run(a: &Args) -> Result<(), String> {
-    let mut sys = PeriodicSystem::new(a.params, a.omega1, 0.0).map_err(|e| e.to_string())?;
+    let mut sys = PeriodicSystem::new(a.params, a.omega1, a.t_load).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let write = |name: &str, text: &str| {
         let p = a.out.join(name);

@@ -110,14 +110,15 @@ impl GearedRotorFmu {
                 Ok(self.values[var.var as usize])
             }
             Causality::CalculatedParameter => {
-                if phase == Phase::InitializationMode {
-                    self.ensure_sim(exp)?;
-                }
-                let sim = self
-                    .sim
-                    .as_ref()
-                    .ok_or_else(|| not_initialised(var.name, "is"))?;
-                values::calculated_value(sim.model().geometry(), var.var)
+                // From the parameters alone (the pair geometry): reading one must not build
+                // the initial state (a periodic start integrates mesh periods and can fail).
+                let geometry = match &self.sim {
+                    Some(sim) if !self.dirty => *sim.model().geometry(),
+                    _ => values::params(&self.values)
+                        .and_then(|p| p.validate())
+                        .map_err(|e| sim_err(SimError::Param(e)))?,
+                };
+                values::calculated_value(&geometry, var.var)
                     .ok_or_else(|| BindingError::NotAvailable(format!("{} has no value", var.name)))
             }
             Causality::Output => self.output(var, phase, exp),
@@ -225,11 +226,11 @@ impl GearedRotorFmu {
                 Status::OK,
                 Category::Events,
                 &format!(
-                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {} s; at the end the teeth are {what}",
+                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {:.12} s (located); at the end the teeth are {what}",
                     report.contact_changes,
                     Short(t0),
                     Short(ccp + h),
-                    Short(report.first_change_time)
+                    report.first_change_time
                 ),
             );
         }

@@ -31,6 +31,13 @@ use std::fmt;
 /// Number of reduced coordinates: u1x u1y u1z u2x u2y u2z and their velocities.
 pub const NZ: usize = 12;
 
+/// A monodromy's difference step is at least this many times the absolute error RADAU5
+/// allows per step ([`PeriodicSystem::fd_steps`]): a period takes ~100-200 steps, so the
+/// noise of the period map is up to ~1e2 of that, and 1e4 leaves the columns accurate to
+/// ~1e-2 or better (1e-9 m for the displacements at rtol 1e-8, inside the range where the
+/// period map is linear: the orbits' peak to peak is ~1e-7..1e-6 m).
+pub const FD_NOISE_FACTOR: f64 = 1e4;
+
 /// Reduced state at the start of a mesh period.
 pub type Reduced = SVector<f64, NZ>;
 
@@ -182,11 +189,11 @@ impl PeriodicSystem {
     }
 
     /// Scales of the reduced coordinates: displacements by the static deflection under the
-    /// nominal load (at least 1 nm), velocities by that times the mesh frequency 2 pi / T_m.
+    /// nominal load of damper and load torque (`GearedRotor::nominal_lambda`; at least 1 nm),
+    /// velocities by that times the mesh frequency 2 pi / T_m.
     pub fn scales(&self) -> Reduced {
-        let g = self.model().geometry();
         let p = self.model().params();
-        let lambda = (p.d_phi * self.omega1 * g.rb1 / g.rb2).abs() / (g.rb2 * g.cos_beta_b);
+        let lambda = self.model().nominal_lambda(0.0).abs();
         let k = [p.rotor1.k, p.rotor2.k];
         let mut s = Reduced::zeros();
         let w = 2.0 * PI / self.period;
@@ -200,6 +207,25 @@ impl PeriodicSystem {
         s
     }
 
+    /// Forward-difference steps of a monodromy matrix whose period maps are integrated at
+    /// `rtol`: `rel` times [`PeriodicSystem::scales`], but never below
+    /// [`FD_NOISE_FACTOR`] times the absolute error RADAU5 allows per step (`rtol` times the
+    /// FMU's scale of the component, `rotor::SCALES`). Why the floor: with little load the
+    /// deflection scale is small (none at all without damper and load torque: the 1 nm
+    /// floor), and a difference step of 1e-13 m sits in the integration noise, which made
+    /// stable orbits look unstable (d_phi = 0, T_load = 100 N m: |mu| = 4.45 before).
+    pub fn fd_steps(&self, rel: f64, rtol: f64) -> Reduced {
+        let s = self.scales();
+        Reduced::from_fn(|i, _| {
+            let noise = if i < 6 {
+                SCALES[idx::Q + i]
+            } else {
+                SCALES[idx::V + i - 6]
+            } * rtol;
+            (rel * s[i]).max(FD_NOISE_FACTOR * noise)
+        })
+    }
+
     /// Full consistent state at the start of a period (t = 0, phi1 = 0) from the reduced
     /// coordinates: xi from g = 0, omega2 from the velocity constraint, lambda from the
     /// hidden constraint (`model.md` §3.3, §7), filter at rest, energies zero.
@@ -207,26 +233,12 @@ impl PeriodicSystem {
     /// # Errors
     /// Mesh, contact or lambda errors.
     pub fn lift(&self, z: &Reduced) -> Result<SVector<f64, NY>, PeriodicError> {
-        let model = self.model();
-        let g = model.geometry();
-        let mut ic = InitialConditions::default();
-        for i in 0..6 {
-            ic.u[i] = z[i];
-            ic.u_dot[i] = z[6 + i];
-        }
-        let mut y = SVector::<f64, NY>::zeros();
-        for i in 0..6 {
-            y[idx::Q + i] = ic.u[i];
-            y[idx::V + i] = ic.u_dot[i];
-        }
-        y[idx::OMEGA1] = self.omega1;
-        let m = model.mesh(0.0, &y)?;
-        y[idx::Q + 6] = -model.gap_offset() - g.gap_raw(&m, 0.0);
-        let grow = g.constraint_row(&m);
-        let gv: f64 = (0..6).map(|i| grow[i] * ic.u_dot[i]).sum();
-        y[idx::V + 6] = (g.rb1 * g.cos_beta_b * self.omega1 - gv) / grow[6];
-        y[idx::LAMBDA] = model.consistent_lambda(0.0, &y)?;
-        Ok(y)
+        let ic = InitialConditions {
+            u: std::array::from_fn(|i| z[i]),
+            u_dot: std::array::from_fn(|i| z[6 + i]),
+            phi1: 0.0,
+        };
+        Ok(self.model().consistent_state(0.0, &ic)?)
     }
 
     /// The reduced coordinates of a full state.

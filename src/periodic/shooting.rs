@@ -81,12 +81,12 @@ fn monodromy(
     sys: &mut PeriodicSystem,
     z: &Reduced,
     p: &Reduced,
-    scales: &Reduced,
     opts: &ShootingOptions,
 ) -> Result<SMatrix<f64, NZ, NZ>, PeriodicError> {
+    let steps = sys.fd_steps(opts.fd_step, opts.rtol);
     let mut m = SMatrix::<f64, NZ, NZ>::zeros();
     for i in 0..NZ {
-        let d = opts.fd_step * scales[i];
+        let d = steps[i];
         let mut zi = *z;
         zi[i] += d;
         let (pi, _) = sys.integrate(&zi, 1, opts.rtol, None)?;
@@ -119,7 +119,7 @@ pub fn shoot(
         let r = p - z;
         let res = scaled_norm(&r, &scales);
         history.push(res);
-        let m = monodromy(sys, &z, &p, &scales, opts)?;
+        let m = monodromy(sys, &z, &p, opts)?;
         if res <= opts.tol {
             let mut orbit = Vec::with_capacity(opts.samples);
             let (_, stats) = sys.integrate(&z, 1, opts.rtol, Some((opts.samples, &mut orbit)))?;

@@ -61,6 +61,15 @@ fn mesh_err(t: f64, e: MeshError) -> ModelError {
     }
 }
 
+/// A state vector with the centre displacements u (the rest zero).
+fn displaced(u: &[f64; 6]) -> SVector<f64, NY> {
+    let mut y = SVector::<f64, NY>::zeros();
+    for i in 0..6 {
+        y[idx::Q + i] = u[i];
+    }
+    y
+}
+
 #[inline]
 pub(super) fn kinematics(y: &SVector<f64, NY>) -> Kinematics {
     let v = idx::V;
@@ -544,8 +553,8 @@ impl GearedRotor {
     }
 
     /// Consistent initial state at t0 for given displacements, velocities and phi1
-    /// (`model.md` §7, §8): omega1 = omega1_ref(t0), omega1' = 0, omega2 from the constraint,
-    /// xi = 0, energies 0, lambda in closed form; sets g0 so that g(t0) = 0.
+    /// (`model.md` §7, §8): sets g0 so that g(t0) = 0 (then xi = 0) and phi1(0), and
+    /// returns [`GearedRotor::consistent_state`].
     ///
     /// # Errors
     /// Mesh/contact errors or an inconsistent lambda.
@@ -554,47 +563,81 @@ impl GearedRotor {
         t0: f64,
         ic: &InitialConditions,
     ) -> Result<SVector<f64, NY>, ModelError> {
-        let g = self.geom;
-        let mut y = SVector::<f64, NY>::zeros();
-        for i in 0..6 {
-            y[i] = ic.u[i];
-            y[idx::V + i] = ic.u_dot[i];
-        }
-        let omega1 = self.inputs.omega1_at(t0);
-        y[idx::PHI1] = ic.phi1;
-        y[idx::OMEGA1] = omega1;
-        y[idx::OMEGA1_DOT] = 0.0;
-        if !y.iter().all(|x| x.is_finite()) {
+        if !ic.u.iter().chain(&ic.u_dot).chain([&ic.phi1]).all(|x| x.is_finite()) {
             return Err(ModelError::NonFinite {
                 t: t0,
                 what: "initial state",
             });
         }
-        let m = self.mesh(t0, &y)?;
+        let m = self.mesh(t0, &displaced(&ic.u))?;
+        self.g0 = -self.geom.gap_raw(&m, 0.0);
+        self.phi1_0 = ic.phi1;
+        self.consistent_state(t0, ic)
+    }
+
+    /// The consistent state at t for the centre displacements, velocities and phi1 of `ic`
+    /// (`model.md` §3.3, §7, §8): the filter at rest at omega1_ref(t), xi from the
+    /// position-level constraint g = 0 with the model's gap offset g0, omega2 from the
+    /// velocity-level constraint (5.2), energies 0, lambda from the hidden constraint. The
+    /// one place that builds a state from (u, u'): the initial state, the periodic
+    /// solutions and the static equilibrium start use it.
+    ///
+    /// # Errors
+    /// Mesh/contact errors or an inconsistent lambda.
+    pub fn consistent_state(
+        &self,
+        t: f64,
+        ic: &InitialConditions,
+    ) -> Result<SVector<f64, NY>, ModelError> {
+        let g = &self.geom;
+        let mut y = displaced(&ic.u);
+        for i in 0..6 {
+            y[idx::V + i] = ic.u_dot[i];
+        }
+        let omega1 = self.inputs.omega1_at(t);
+        y[idx::PHI1] = ic.phi1;
+        y[idx::OMEGA1] = omega1;
+        y[idx::OMEGA1_DOT] = 0.0;
+        if !y.iter().all(|x| x.is_finite()) {
+            return Err(ModelError::NonFinite {
+                t,
+                what: "initial state",
+            });
+        }
+        let m = self.mesh(t, &y)?;
+        y[idx::Q + 6] = -self.g0 - g.gap_raw(&m, 0.0);
         let grow = g.constraint_row(&m);
         let gv: f64 = grow.iter().zip(ic.u_dot.iter()).map(|(a, b)| a * b).sum();
         y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
-        y[idx::LAMBDA] = self.consistent_lambda(t0, &y)?;
-        self.g0 = -g.gap_raw(&m, 0.0);
-        self.phi1_0 = ic.phi1;
+        y[idx::LAMBDA] = self.consistent_lambda(t, &y)?;
         Ok(y)
     }
 
-    /// Rigid-rotation kinematic state at t: no displacement, omega1 = omega1_ref(t)
-    /// (filter at rest), omega2 = omega1 r_b1 / r_b2, xi = 0, energies 0, lambda consistent.
-    /// Does not change g0.
+    /// Rigid-rotation kinematic state at t: no displacement, the filter at rest, omega2 =
+    /// omega1 r_b1 / r_b2 (the constraint at rest), energies 0, lambda consistent; xi = 0
+    /// when g0 is that of the undeflected state. Does not change g0.
     ///
     /// # Errors
     /// Mesh/contact errors or an inconsistent lambda.
     pub fn rigid_rotation_state(&self, t: f64, phi1: f64) -> Result<SVector<f64, NY>, ModelError> {
+        self.consistent_state(
+            t,
+            &InitialConditions {
+                phi1,
+                ..InitialConditions::default()
+            },
+        )
+    }
+
+    /// The nominal normal force at the inputs of t: what the damper and the load torque on
+    /// gear 2 take in rigid rotation at the drive speed, without friction (model.md §7),
+    /// `lambda = (d_phi omega2 + T_load) / (r_b2 cos beta_b)` with `omega2 = omega1 r_b1 /
+    /// r_b2`, in N. The one source of the load scale of the static equilibrium and of the
+    /// periodic solutions.
+    pub fn nominal_lambda(&self, t: f64) -> f64 {
         let g = &self.geom;
-        let mut y = SVector::<f64, NY>::zeros();
-        let omega1 = self.inputs.omega1_at(t);
-        y[idx::PHI1] = phi1;
-        y[idx::OMEGA1] = omega1;
-        y[idx::V + 6] = omega1 * g.rb1 / g.rb2;
-        y[idx::LAMBDA] = self.consistent_lambda(t, &y)?;
-        Ok(y)
+        let omega2 = self.inputs.omega1_at(t) * g.rb1 / g.rb2;
+        (self.params.d_phi * omega2 + self.inputs.t_load_at(t)) / (g.rb2 * g.cos_beta_b)
     }
 
     /// Frictionless static equilibrium for the inputs at t (`model.md` §7, §9.5): constant
@@ -611,9 +654,7 @@ impl GearedRotor {
         phi1: f64,
     ) -> Result<(InitialConditions, f64), ModelError> {
         let g = &self.geom;
-        let omega1 = self.inputs.omega1_at(t);
-        let omega2 = omega1 * g.rb1 / g.rb2;
-        let lam = (self.params.d_phi * omega2 + self.inputs.t_load_at(t)) / (g.rb2 * g.cos_beta_b);
+        let lam = self.nominal_lambda(t);
         let mut u = [0.0f64; 6];
         for _ in 0..50 {
             let u1 = Vector3::new(u[0], u[1], u[2]);

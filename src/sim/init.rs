@@ -176,11 +176,9 @@ const SHOOTING_RTOL_FACTOR: f64 = 1e-3;
 /// See [`SHOOTING_RTOL_FACTOR`].
 const SHOOTING_RTOL_RANGE: (f64, f64) = (1e-13, 1e-8);
 
-/// The consistent state at `t` for centre displacements `u` and velocities `u_dot`, the
-/// filter at rest at the start speed, phi1 = 0, energies 0: xi from the position-level
-/// constraint g = 0 with the model's gap offset (that of the undeflected state after
-/// `GearedRotor::initialize`), omega2 from the velocity-level constraint, lambda from the
-/// hidden constraint (`model.md` §3.3, §7).
+/// The consistent state at `t` for centre displacements `u` and velocities `u_dot`, phi1
+/// = 0 (`GearedRotor::consistent_state`; xi relative to the gap offset of the undeflected
+/// state after `GearedRotor::initialize`).
 ///
 /// # Errors
 /// Mesh, contact or lambda errors.
@@ -190,21 +188,14 @@ pub fn lift(
     u: &[f64; 6],
     u_dot: &[f64; 6],
 ) -> Result<SVector<f64, NY>, ModelError> {
-    let g = model.geometry();
-    let omega1 = model.inputs().omega1_at(t);
-    let mut y = SVector::<f64, NY>::zeros();
-    for i in 0..6 {
-        y[idx::Q + i] = u[i];
-        y[idx::V + i] = u_dot[i];
-    }
-    y[idx::OMEGA1] = omega1;
-    let m = model.mesh(t, &y)?;
-    y[idx::Q + 6] = -model.gap_offset() - g.gap_raw(&m, 0.0);
-    let grow = g.constraint_row(&m);
-    let gv: f64 = (0..6).map(|i| grow[i] * u_dot[i]).sum();
-    y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
-    y[idx::LAMBDA] = model.consistent_lambda(t, &y)?;
-    Ok(y)
+    model.consistent_state(
+        t,
+        &InitialConditions {
+            u: *u,
+            u_dot: *u_dot,
+            phi1: 0.0,
+        },
+    )
 }
 
 /// The initial state of `init` for a model set up by `GearedRotor::initialize(t)` (inputs
@@ -285,10 +276,10 @@ pub fn periodic_orbit(
     // residual, once more at the tighter tolerance around the best state so far.
     let tols = [MONODROMY_RTOL.max(rtol), MONODROMY_RTOL_RETRY.max(rtol)];
     let mut stage = 0;
-    let (mut lu, mut p) = match chord_matrix(sys, &z, &scales, tols[0], rtol, &mut report) {
+    let (mut lu, mut p) = match chord_matrix(sys, &z, tols[0], rtol, &mut report) {
         Err(InitError::Unstable { .. }) if tols[1] < tols[0] => {
             stage = 1;
-            chord_matrix(sys, &z, &scales, tols[1], rtol, &mut report)?
+            chord_matrix(sys, &z, tols[1], rtol, &mut report)?
         }
         r => r?,
     };
@@ -308,7 +299,7 @@ pub fn periodic_orbit(
         if stalled && stage == 0 && tols[1] < tols[0] {
             stage = 1;
             z = best.1;
-            (lu, p) = chord_matrix(sys, &z, &scales, tols[1], rtol, &mut report)?;
+            (lu, p) = chord_matrix(sys, &z, tols[1], rtol, &mut report)?;
             best.0 = f64::INFINITY;
             continue;
         }
@@ -347,7 +338,6 @@ fn integrate(
 fn chord_matrix(
     sys: &mut PeriodicSystem,
     z: &Reduced,
-    scales: &Reduced,
     tol_m: f64,
     rtol: f64,
     report: &mut InitReport,
@@ -359,9 +349,10 @@ fn chord_matrix(
     InitError,
 > {
     let p0 = integrate(sys, z, tol_m, report)?;
+    let steps = sys.fd_steps(FD_STEP, tol_m);
     let mut m = SMatrix::<f64, NZ, NZ>::zeros();
     for i in 0..NZ {
-        let d = FD_STEP * scales[i];
+        let d = steps[i];
         let mut zi = *z;
         zi[i] += d;
         let pi = integrate(sys, &zi, tol_m, report)?;

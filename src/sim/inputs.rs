@@ -48,11 +48,3 @@ pub(super) fn same_function(a: &Inputs, b: &Inputs) -> bool {
         && close(a.t_load, b.t_load)
         && close(a.t_load_der, b.t_load_der)
 }
-
-/// Exact equality of the input function (decides whether the model's record is updated).
-pub(super) fn identical_function(a: &Inputs, b: &Inputs) -> bool {
-    a.omega1 == b.omega1
-        && a.omega1_der == b.omega1_der
-        && a.t_load == b.t_load
-        && a.t_load_der == b.t_load_der
-}

@@ -52,7 +52,7 @@ pub use crate::rotor::{RotorProblem, SCALES};
 use error::solver_err;
 use fmu_state::InitRecord;
 pub use init::{InitError, InitReport, Initialization};
-use inputs::{identical_function, rebase, same_function};
+use inputs::{rebase, same_function};
 use nalgebra::SVector;
 use validity::Monitor;
 pub use validity::{OnViolation, Violation, ViolationKind};
@@ -209,24 +209,38 @@ impl Simulation {
         self.solver.t() > self.t_comm
     }
 
-    /// Sets the FMU time and the state there from the stepper.
-    fn set_comm(&mut self, t: f64) {
-        self.t_comm = t;
+    /// The stepper's state at t (its y at its own time, else its dense output).
+    fn state_at(&self, t: f64, y: &mut SVector<f64, NY>) {
         if t == self.solver.t() {
-            self.y_comm = *self.solver.y();
+            y.copy_from(self.solver.y());
         } else {
-            self.solver.dense_output(t, &mut self.y_comm);
+            self.solver.dense_output(t, y);
         }
     }
 
+    /// Sets the FMU time and the state there from the stepper.
+    fn set_comm(&mut self, t: f64) {
+        self.t_comm = t;
+        let mut y = SVector::<f64, NY>::zeros();
+        self.state_at(t, &mut y);
+        self.y_comm = y;
+    }
+
     /// Before f changes at the FMU time: a look-ahead step is retaken so that the stepper
-    /// ends exactly on the FMU time with the function it was taken with.
+    /// ends exactly on the FMU time with the function it was taken with. That is the input
+    /// function of `inputs_ref` (the master may have set new inputs since, which apply from
+    /// the FMU time on), with the tunables as they are (a tunable setter calls this before
+    /// it changes one).
     fn sync(&mut self) -> Result<(), SimError> {
         if !self.ahead() {
             return Ok(());
         }
         let t = self.t_comm;
-        match self.solver.retake(&mut self.problem, t) {
+        let current = *self.problem.model.inputs();
+        self.problem.model.set_inputs(self.inputs_ref);
+        let retaken = self.solver.retake(&mut self.problem, t);
+        self.problem.model.set_inputs(current);
+        match retaken {
             Ok(how) => {
                 if how == Retake::Interpolated {
                     self.restart_pending = true;
@@ -294,16 +308,15 @@ impl Simulation {
         }
     }
 
-    fn apply_inputs(&mut self, new: Inputs) -> Result<(), SimError> {
-        let t = self.time();
-        let old = self.rebased(t);
-        if !same_function(&old, &new) {
-            self.sync()?;
-        }
-        if !identical_function(&old, &new) {
-            self.problem.model.set_inputs(new);
-        }
-        Ok(())
+    /// Records the input function the master describes at the FMU time. Nothing is decided
+    /// here: the next doStep compares it with the function the stepper runs with
+    /// (`change_pending`) and retakes a look-ahead step only then, so the order in which a
+    /// master sets a value and its derivative (FMPy: value first) does not matter, nor do
+    /// intermediate records that a later call at the same point undoes.
+    /// The record is always the one rebased to the FMU time, whatever was set before at the
+    /// same point, so that equal functions give equal bits in f.
+    fn apply_inputs(&mut self, new: Inputs) {
+        self.problem.model.set_inputs(new);
     }
 
     /// Sets an input at the current communication point. Without a derivative set at the
@@ -334,7 +347,8 @@ impl Simulation {
                 }
             }
         }
-        self.apply_inputs(i)
+        self.apply_inputs(i);
+        Ok(())
     }
 
     /// Sets the first time derivative of an input at the current communication point
@@ -355,7 +369,8 @@ impl Simulation {
             Input::TLoad => i.t_load_der = der,
         }
         self.der_set[which.index()] = true;
-        self.apply_inputs(i)
+        self.apply_inputs(i);
+        Ok(())
     }
 
     /// Changes the friction coefficient (tunable) at the current communication point.

@@ -84,9 +84,9 @@ impl Simulation {
         // stepper (fresh f, Jacobian marked stale, h kept). Re-setting the same values (or
         // values that continue the same ramp) costs nothing.
         let change = self.change_pending();
-        self.inputs_ref = *self.problem.model.inputs();
         if change {
-            // The setters have already retaken a look-ahead step (`sync`); a no-op then.
+            // A look-ahead step is retaken to end on t with the old function (`sync`; a
+            // no-op when a tunable setter already did it).
             if let Err(e) = self.sync() {
                 self.last_successful_time = t;
                 return Err(e);
@@ -119,6 +119,7 @@ impl Simulation {
             self.restart_pending = false;
             report.restarted = true;
         }
+        self.inputs_ref = *self.problem.model.inputs();
         // A derivative set at this point applies until the master sets a new one or a value.
         self.der_set = [false; 2];
         // Look ahead unless the inputs changed here: a master that changes them at every
@@ -199,15 +200,18 @@ impl Simulation {
                 }
             }
         }
-        self.set_comm(t_end);
-        if self.ahead() {
-            let y = self.y_comm;
-            self.track_contact(t_end, &y, &mut report);
+        // The state at t_end is checked before the FMU time moves there: a violation located
+        // inside this doStep (also one before t_end on a look-ahead step that went past it)
+        // then sets the FMU time to its instant, which must not lie before the FMU time.
+        let mut y_end = SVector::<f64, NY>::zeros();
+        self.state_at(t_end, &mut y_end);
+        if self.solver.t() > t_end {
+            self.track_contact(t_end, &y_end, &mut report);
         }
         if self.validity.t_checked < t_end {
-            let y = self.y_comm;
-            self.check_validity(t_end, &y, &mut report)?;
+            self.check_validity(t_end, &y_end, &mut report)?;
         }
+        self.set_comm(t_end);
         self.last_successful_time = t_end;
         report.stats = self.solver.stats().since(&stats0);
         report.contact_lost = self.contact_lost;
@@ -224,7 +228,7 @@ impl Simulation {
         }
         if lost != self.contact_lost {
             if report.contact_changes == 0 {
-                report.first_change_time = t;
+                report.first_change_time = self.locate_contact_change(t, y, lost);
             }
             report.contact_changes += 1;
             self.contact_lost = lost;

@@ -163,7 +163,7 @@ impl Monitor {
 /// Illinois regula falsi for the first sign change of `g` in `(a, b]` with `g(a) >= 0 >
 /// g(b)` (values `ga`, `gb` given), to a bracket of [`LOCATE_TOL`]; returns the right end
 /// (the first time known to be outside).
-fn locate(mut g: impl FnMut(f64) -> f64, mut a: f64, mut ga: f64, mut b: f64, mut gb: f64) -> f64 {
+pub(super) fn locate(mut g: impl FnMut(f64) -> f64, mut a: f64, mut ga: f64, mut b: f64, mut gb: f64) -> f64 {
     let mut side = 0i32;
     for _ in 0..200 {
         if b - a <= LOCATE_TOL {
@@ -219,6 +219,43 @@ impl Simulation {
                 }
             }
         }
+    }
+
+    /// The instant at which the sign of the consistent lambda changed to `lost` (lambda < 0)
+    /// within the last step, located on its dense output as a lift-off is; `th` (the state
+    /// that revealed it) where there is no polynomial to search (before the first step).
+    pub(super) fn locate_contact_change(&self, th: f64, y: &SVector<f64, NY>, lost: bool) -> f64 {
+        let lo = self.solver.t_prev().max(self.t_comm);
+        if !(lo < th) || self.solver.stats().naccpt == 0 {
+            return th;
+        }
+        // Indicator >= 0 on the side left, < 0 on the side entered.
+        let sign = if lost { 1.0 } else { -1.0 };
+        // (lambda = 0 counts as in contact: on the entered side when contact is regained.)
+        let ind = |l: f64| {
+            let v = sign * l;
+            if !lost && v == 0.0 {
+                -f64::MIN_POSITIVE
+            } else {
+                v
+            }
+        };
+        let solver: &Radau5<NY> = &self.solver;
+        let mut ys = SVector::<f64, NY>::zeros();
+        let mut g = |s: f64| {
+            solver.dense_output(s, &mut ys);
+            ind(self.output_state(s, &ys)[idx::LAMBDA])
+        };
+        let ga = g(lo);
+        let gb = ind(self.output_state(th, y)[idx::LAMBDA]);
+        if ga < 0.0 {
+            // Already changed at the start of the search (e.g. an input set there).
+            return lo;
+        }
+        if !(ga >= 0.0 && gb < 0.0) {
+            return th;
+        }
+        locate(g, lo, ga, th, gb)
     }
 
     /// Reports the conditions that hold at the start state (first doStep after the start).
@@ -326,7 +363,8 @@ impl Simulation {
         match (self.validity.policy, first) {
             (OnViolation::Discard, Some(v)) => {
                 if v.t < self.t_comm || v.t > self.solver.t() {
-                    // Cannot happen: located within [t_checked, th]; keep the state then.
+                    // Not expected: the instant is located within [t_checked, th], and the
+                    // FMU time is still the doStep's start here; keep the state then.
                     self.last_successful_time = self.t_comm;
                 } else {
                     self.set_comm(v.t);
