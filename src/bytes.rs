@@ -14,7 +14,8 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 ///    initialization code, its initial state (non-rest starts) and the validity monitor.
 /// 4: the FMI layer's part first (phase, experiment), then the model's (variable count,
 ///    values, input derivatives, simulation flag and snapshot).
-pub const VERSION: u32 = 4;
+/// 5: after the validity monitor, the contact-line stick mode (flag) and the release sense.
+pub const VERSION: u32 = 5;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]

@@ -214,14 +214,21 @@ fn floquet_multipliers_without_damper_match_the_decay_of_a_perturbation() {
         }
         let n = ks.len() as f64;
         let (mk, ml) = (ks.iter().sum::<f64>() / n, ls.iter().sum::<f64>() / n);
-        let slope = ks.iter().zip(&ls).map(|(k, l)| (k - mk) * (l - ml)).sum::<f64>()
+        let slope = ks
+            .iter()
+            .zip(&ls)
+            .map(|(k, l)| (k - mk) * (l - ml))
+            .sum::<f64>()
             / ks.iter().map(|k| (k - mk).powi(2)).sum::<f64>();
         let decay = slope.exp();
         println!(
             "T_load {t_load}: |mu| chord {:.4}, shooting {rho:.4}, time-run decay per period {decay:.4}",
             report.floquet_max_abs
         );
-        assert!((decay - rho).abs() <= 0.02 * rho, "decay {decay} vs |mu| {rho}");
+        assert!(
+            (decay - rho).abs() <= 0.02 * rho,
+            "decay {decay} vs |mu| {rho}"
+        );
         assert!(
             (report.floquet_max_abs - rho).abs() <= 0.02 * rho,
             "chord {} vs {rho}",

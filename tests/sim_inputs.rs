@@ -198,5 +198,10 @@ fn a_continuing_ramp_is_no_change_in_either_call_order() {
     // extrapolation by round-off only: no restart).
     assert_eq!((sa.nfcn, sa.nstep, sa.ndec), (sc.nfcn, sc.nstep, sc.ndec));
     let t1 = |s: &Simulation| s.outputs().t1;
-    assert!((t1(&a) - t1(&c)).abs() <= 1e-9 * t1(&c).abs(), "{} vs {}", t1(&a), t1(&c));
+    assert!(
+        (t1(&a) - t1(&c)).abs() <= 1e-9 * t1(&c).abs(),
+        "{} vs {}",
+        t1(&a),
+        t1(&c)
+    );
 }

@@ -118,8 +118,10 @@ fn input_change_retakes_the_step_that_went_past() {
     let before = *a.stats();
     a.set_input(geared_rotor::sim::Input::Omega1, 320.0)
         .unwrap();
-    assert_eq!(a.stepper_time(), a.time(), "the step past t_c is retaken");
-    assert!(a.stats().naccpt > before.naccpt);
+    // Nothing is decided at the set (the master may still set a derivative that makes it
+    // the same function): the next doStep retakes the step to end on t_c first.
+    assert!(a.stepper_time() > a.time(), "nothing retaken at the set");
+    assert_eq!(*a.stats(), before);
     let (ref_c, ref_end) = reference(t_c, t_end, |m| {
         let mut i = *m.inputs();
         i.omega1 = 320.0;
@@ -132,6 +134,10 @@ fn input_change_retakes_the_step_that_went_past() {
     let mut t = t_c;
     while t < t_end - 0.5 * h {
         a.do_step(t, h).unwrap();
+        if t == t_c {
+            // The retake (an accepted step ending on t_c) and the restart there.
+            assert!(a.stats().naccpt > before.naccpt);
+        }
         t += h;
     }
     let (d, i) = scaled_dev(a.y(), &ref_end);

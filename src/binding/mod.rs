@@ -234,6 +234,32 @@ impl GearedRotorFmu {
                 ),
             );
         }
+        if log.enabled(Category::Events) {
+            for c in report.stick_changes.iter().flatten() {
+                let what = if c.stick {
+                    "a contact line sticks at the pitch line (its sliding stopped; the friction force that holds it is within mu times its share of Fn)"
+                } else {
+                    "the stuck contact line slides again (the force needed to hold it reached mu times its share of Fn)"
+                };
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!("t = {:.12} s (located): {what}", c.t),
+                );
+            }
+            if report.stick_changes_dropped > 0 {
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!(
+                        "{} further stick/slip changes in [{}, {}] s",
+                        report.stick_changes_dropped,
+                        Short(t0),
+                        Short(ccp + h)
+                    ),
+                );
+            }
+        }
         if log.enabled(Category::Solver) {
             log.log(
                 Status::OK,

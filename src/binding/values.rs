@@ -136,6 +136,7 @@ pub fn output_values(o: &Outputs, v: &mut Values) {
     v[Var::contact_length as usize] = o.contact_length;
     v[Var::pairs_in_contact as usize] = f64::from(o.pairs_in_contact);
     v[Var::contact_lost as usize] = f64::from(u8::from(o.contact_lost));
+    v[Var::stick as usize] = f64::from(u8::from(o.stick));
     v[Var::u1_x as usize] = o.u1[0];
     v[Var::u1_y as usize] = o.u1[1];
     v[Var::u1_z as usize] = o.u1[2];

@@ -15,11 +15,14 @@ pub mod ehl;
 pub mod iso_mean;
 pub mod law_params;
 pub mod regularised;
+pub mod stick;
 
 pub use ehl::{EhlLine, Lubricant};
 pub use iso_mean::{mu_mz, IsoMean};
 pub use law_params::FrictionParams;
 pub use regularised::regularised_integrals;
+use stick::{Contribution, Held};
+pub use stick::{PitchLine, StuckLine};
 
 /// The friction law (FMI parameter `friction_law`): the single seam through which the
 /// local friction model enters. `docs/friction.md` gives each law's formula and source.
@@ -278,6 +281,9 @@ pub struct FrictionSums {
     /// int mu_loc(s) ds over all lines per unit scalar coefficient (= l for Coulomb; for
     /// the regularised law only when asked for, [`regularised::mean_factor`]).
     pub mu_len: f64,
+    /// The line left out of the sums above because it sticks (`model.md` §4.1), when asked
+    /// for (`PairGeometry::sums_with_stick`).
+    pub stuck: Option<StuckLine>,
 }
 
 /// Friction forces, moments and loss for a given normal force (`model.md` §4).
@@ -355,6 +361,25 @@ impl PairGeometry {
         k: &Kinematics,
         law: &LineLaw,
     ) -> FrictionSums {
+        self.sums_with_stick(m, phi1, psi0, k, law, PitchLine::Slide)
+    }
+
+    /// [`PairGeometry::friction_sums_line`] with the segment whose sliding `x0` is nearest
+    /// zero (a spur line at the pitch line, `model.md` §4.1) treated as `pitch` says: with
+    /// [`PitchLine::Stick`] it is left out of the friction sums and described in
+    /// [`FrictionSums::stuck`] instead (its force is the one that keeps it from sliding,
+    /// which the DAE computes); with [`PitchLine::Released`] it slides in the given sense
+    /// while its |x0| is within the band (Coulomb law, unit coefficient). The normal load
+    /// acts on it in every case (arms, contact length). No allocation.
+    pub(crate) fn sums_with_stick(
+        &self,
+        m: &Mesh,
+        phi1: f64,
+        psi0: f64,
+        k: &Kinematics,
+        law: &LineLaw,
+        pitch: PitchLine,
+    ) -> FrictionSums {
         let (cb, sb) = (self.cos_beta_b, self.sin_beta_b);
         let dv = k.v2 - k.v1;
         // Local components of u2' - u1'.
@@ -368,13 +393,13 @@ impl PairGeometry {
         let (rb1, rb2, lt) = (self.rb1, self.rb2, m.len_t1t2);
         let (u1z, u2z) = (m.c1.z, m.c2.z);
         // Local accumulators: force (w, t, z), moments (w, t, z), arms.
-        let (mut fw, mut ft, mut fz) = (0.0, 0.0, 0.0);
-        let mut m1 = [0.0f64; 3];
-        let mut m2 = [0.0f64; 3];
+        let mut acc = Contribution::default();
         let mut a1 = [0.0f64; 3];
         let mut a2 = [0.0f64; 3];
-        let mut wsum_int = 0.0;
         let mut mu_len = 0.0;
+        // Unless `Slide`: the segment nearest zero sliding so far, held back from the sums.
+        let near = pitch != PitchLine::Slide;
+        let mut held: Option<Held> = None;
         let contact = self.for_each_segment(m, phi1, psi0, |seg| {
             let x0 = x_base + wsum * seg.sigma0;
             let li = match law {
@@ -394,27 +419,53 @@ impl PairGeometry {
                     li
                 }
             };
-            // F = I_x e_w + I_y c in local components.
-            let (gw, gt, gz) = (li.ix, -sb * li.iy, cb * li.iy);
-            fw += gw;
-            ft += gt;
-            fz += gz;
-            // r x F + K_x n for r = P_k0 - c_j.
             let z1 = seg.z0 - u1z;
             let z2 = seg.z0 - u2z;
             let s0 = seg.sigma0;
-            let cross = |r: [f64; 3]| {
-                [
-                    r[1] * gz - r[2] * gt,
-                    r[2] * gw - r[0] * gz + li.kx * cb,
-                    r[0] * gt - r[1] * gw + li.kx * sb,
-                ]
+            // F = I_x e_w + I_y c in local components; r x F + K_x n for r = P_k0 - c_j.
+            let contribution = |li: &LineIntegrals| {
+                let (gw, gt, gz) = (li.ix, -sb * li.iy, cb * li.iy);
+                let cross = |r: [f64; 3]| {
+                    [
+                        r[1] * gz - r[2] * gt,
+                        r[2] * gw - r[0] * gz + li.kx * cb,
+                        r[0] * gt - r[1] * gw + li.kx * sb,
+                    ]
+                };
+                Contribution {
+                    f: [gw, gt, gz],
+                    m1: cross([rb1, s0, z1]),
+                    m2: cross([-rb2, s0 - lt, z2]),
+                    w: li.w,
+                }
             };
-            let c1 = cross([rb1, s0, z1]);
-            let c2 = cross([-rb2, s0 - lt, z2]);
-            for i in 0..3 {
-                m1[i] += c1[i];
-                m2[i] += c2[i];
+            let c = contribution(&li);
+            if near && held.as_ref().is_none_or(|h| x0.abs() < h.x0.abs()) {
+                // A released line (`PitchLine::Released`) slides in the given sense while
+                // it is within the band: unit direction `sign`, power `sign x0` per unit.
+                let hinted = match pitch {
+                    PitchLine::Released { sign, .. } => {
+                        let l = seg.length;
+                        Some(contribution(&LineIntegrals {
+                            ix: l * sign,
+                            iy: 0.0,
+                            kx: 0.5 * l * l * sign,
+                            ky: 0.0,
+                            w: l * sign * x0,
+                        }))
+                    }
+                    _ => None,
+                };
+                if let Some(h) = held.replace(Held {
+                    c,
+                    hinted,
+                    seg: *seg,
+                    x0,
+                }) {
+                    acc.add(&h.c);
+                }
+            } else {
+                acc.add(&c);
             }
             // int (P - c_j) ds = L (P_k0 - c_j) + L^2/2 c.
             let l = seg.length;
@@ -425,17 +476,37 @@ impl PairGeometry {
             a2[0] += -l * rb2;
             a2[1] += l * (s0 - lt) - h * sb;
             a2[2] += l * z2 + h * cb;
-            wsum_int += li.w;
         });
+        let mut stuck = None;
+        if let Some(h) = held {
+            match pitch {
+                PitchLine::Stick => {
+                    stuck = Some(StuckLine::new(
+                        m,
+                        h.seg,
+                        h.x0,
+                        [rb1, -rb2],
+                        lt,
+                        [u1z, u2z],
+                        [cb, sb],
+                    ));
+                }
+                PitchLine::Released { band, .. } if h.x0.abs() <= band && y.abs() <= band => {
+                    acc.add(&h.hinted.unwrap_or(h.c));
+                }
+                _ => acc.add(&h.c),
+            }
+        }
         FrictionSums {
             contact,
-            force: m.to_inertial(fw, ft, fz),
-            moment1: m.to_inertial(m1[0], m1[1], m1[2]),
-            moment2: m.to_inertial(m2[0], m2[1], m2[2]),
-            w: wsum_int,
+            force: m.to_inertial(acc.f[0], acc.f[1], acc.f[2]),
+            moment1: m.to_inertial(acc.m1[0], acc.m1[1], acc.m1[2]),
+            moment2: m.to_inertial(acc.m2[0], acc.m2[1], acc.m2[2]),
+            w: acc.w,
             arm1: m.to_inertial(a1[0], a1[1], a1[2]),
             arm2: m.to_inertial(a2[0], a2[1], a2[2]),
             mu_len,
+            stuck,
         }
     }
 }

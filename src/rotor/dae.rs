@@ -11,6 +11,9 @@ use std::f64::consts::PI;
 
 mod friction;
 mod memo;
+mod stick;
+
+pub use stick::{RELEASE_BAND, STICK_RELAXATION};
 
 use friction::Asker;
 
@@ -47,6 +50,12 @@ pub struct GearedRotor {
     lub: Lubricant,
     /// Mesh and friction sums of the last kinematic state (a pure cache, see `memo`).
     memo: memo::KinematicMemo,
+    /// A spur contact line sticks at the pitch line (`model.md` §4.1; the simulation
+    /// switches it at located instants).
+    stick: bool,
+    /// The sense (+1, -1) in which a line just released from sticking slides, 0 if none
+    /// (`PitchLine::Released`).
+    released: f64,
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -121,6 +130,8 @@ impl GearedRotor {
             iso,
             lub: fp.lubricant(),
             memo: memo::KinematicMemo::default(),
+            stick: false,
+            released: 0.0,
         })
     }
 
@@ -208,22 +219,6 @@ impl GearedRotor {
         })
     }
 
-    /// Friction sums (per unit line pressure `|lambda| / l` times the law's scalar
-    /// coefficient of the friction law) of the state y (§4) at its lambda. `m` must be
-    /// the mesh of y ([`GearedRotor::mesh`]): the result is memoised under y's key.
-    ///
-    /// # Errors
-    /// See [`GearedRotor::mesh`]; [`ModelError::NoContact`] when l = 0.
-    pub(crate) fn friction_sums(
-        &self,
-        t: f64,
-        y: &SVector<f64, NY>,
-        m: &Mesh,
-    ) -> Result<FrictionSums, ModelError> {
-        self.friction(t, y, m, y[idx::LAMBDA], Asker::Point)
-            .map(|(s, _)| s)
-    }
-
     /// Right-hand side f(t, y) of `M_ext y' = f` (`model.md` §5, §8, energy states of model.md §6).
     /// No heap allocation.
     ///
@@ -248,7 +243,7 @@ impl GearedRotor {
         let m = self.mesh_for_f(t, y)?;
         let lam = y[idx::LAMBDA];
         let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
-        let fr = sums.resultants(mu, lam);
+        let fr = self.friction_resultants(t, y, &m, &sums, mu);
         let grow = g.constraint_row(&m);
         let v = idx::V;
         let omega1 = y[idx::OMEGA1];
@@ -312,7 +307,9 @@ impl GearedRotor {
         y: &SVector<f64, NY>,
         jac: &mut SMatrix<f64, NY, NY>,
     ) -> bool {
-        self.eval_jacobian(t, y, jac).is_ok()
+        // In the stick mode the stick force (4.13) depends on every state component; the
+        // stepper's forward differences of f are taken there (stick phases are short).
+        !self.stick && self.eval_jacobian(t, y, jac).is_ok()
     }
 
     fn eval_jacobian(
@@ -483,12 +480,25 @@ impl GearedRotor {
     /// consistent (see above; r = 0 gives λ = 0).
     pub fn consistent_lambda(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, ModelError> {
         let m = self.mesh(t, y)?;
+        self.consistent_lambda_mode(t, y, &m, self.stick)
+    }
+
+    /// [`GearedRotor::consistent_lambda`] in the given stick mode (`model.md` §4.1).
+    pub(crate) fn consistent_lambda_mode(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        stick: bool,
+    ) -> Result<f64, ModelError> {
         if self.params.friction_law.load_dependent() {
             // The scalar solve evaluates the friction itself (from y's own lambda).
-            return self.consistent_lambda_solve(t, y, &m, None).map(|(l, _)| l);
+            return self
+                .consistent_lambda_solve(t, y, m, None, stick)
+                .map(|(l, _)| l);
         }
-        let sums = self.friction_sums(t, y, &m)?;
-        self.consistent_lambda_with(t, y, &m, &sums)
+        let (sums, _) = self.friction_mode(t, y, m, y[idx::LAMBDA], Asker::Point, stick)?;
+        self.consistent_lambda_with(t, y, m, &sums)
     }
 
     /// [`GearedRotor::consistent_lambda`] for laws 1 and 2 (friction linear in |lambda|),
@@ -512,15 +522,17 @@ impl GearedRotor {
         let gu = sums.generalised_unit();
         let v = idx::V;
         let t_load = self.inputs.t_load_at(t);
-        let (mut a, mut b, mut r) = (0.0, 0.0, 0.0);
+        // A stuck line's force eliminated first (model.md (4.14)).
+        let (gp, r_stick) = self.projected_row(y, &m, &grow, sums.stuck.as_ref());
+        let (mut a, mut b, mut r) = (0.0, 0.0, r_stick);
         for i in 0..7 {
             let mut force = -self.damp[i] * y[v + i] - self.stiff[i] * y[i];
             if i == 6 {
                 force -= t_load;
             }
-            a += grow[i] * grow[i] / self.mass[i];
-            b += grow[i] * pu * gu[i] / self.mass[i];
-            r -= grow[i] * force / self.mass[i];
+            a += gp[i] * grow[i] / self.mass[i];
+            b += gp[i] * pu * gu[i] / self.mass[i];
+            r -= gp[i] * force / self.mass[i];
         }
         r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(&m, &kin);
         let lp = r / (a + b);
@@ -563,7 +575,13 @@ impl GearedRotor {
         t0: f64,
         ic: &InitialConditions,
     ) -> Result<SVector<f64, NY>, ModelError> {
-        if !ic.u.iter().chain(&ic.u_dot).chain([&ic.phi1]).all(|x| x.is_finite()) {
+        if !ic
+            .u
+            .iter()
+            .chain(&ic.u_dot)
+            .chain([&ic.phi1])
+            .all(|x| x.is_finite())
+        {
             return Err(ModelError::NonFinite {
                 t: t0,
                 what: "initial state",
@@ -695,7 +713,7 @@ impl GearedRotor {
     /// Every output of `model.md` §6 from the state and the inputs at t. When the mesh
     /// cannot be evaluated the contact quantities are NaN.
     pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
-        self.outputs_with(y, self.point_friction(t, y))
+        self.outputs_with(t, y, self.point_friction(t, y))
     }
 
     /// The mesh of y and its friction at y's own lambda, as the outputs ask for them.
@@ -726,7 +744,7 @@ impl GearedRotor {
                 }
             }
         }
-        self.outputs_with(&z, res)
+        self.outputs_with(t, &z, res)
     }
 
     /// [`GearedRotor::outputs_consistent`] for laws 3 and 4, where the friction follows
@@ -736,7 +754,7 @@ impl GearedRotor {
         let res = self.point_friction(t, y);
         let mut z = *y;
         let res = res.map(|(m, sums, mu)| {
-            match self.consistent_lambda_solve(t, y, &m, Some((sums, mu))) {
+            match self.consistent_lambda_solve(t, y, &m, Some((sums, mu)), self.stick) {
                 Ok((l, (s, mu_l))) if l.is_finite() => {
                     z[idx::LAMBDA] = l;
                     (m, s, mu_l)
@@ -744,11 +762,12 @@ impl GearedRotor {
                 _ => (m, sums, mu),
             }
         });
-        self.outputs_with(&z, res)
+        self.outputs_with(t, &z, res)
     }
 
     fn outputs_with(
         &self,
+        t: f64,
         y: &SVector<f64, NY>,
         res: Result<(Mesh, FrictionSums, f64), ModelError>,
     ) -> Outputs {
@@ -767,6 +786,7 @@ impl GearedRotor {
         o.phi2 = (y[6] + g.rb1 * (y[idx::PHI1] - self.phi1_0)) / g.rb2;
         o.fn_ = lam;
         o.contact_lost = lam < 0.0;
+        o.stick = self.stick;
         o.e_in = y[idx::E_IN];
         o.e_loss = y[idx::E_LOSS];
         o.e_damp = y[idx::E_DAMP];
@@ -817,7 +837,7 @@ impl GearedRotor {
                 return o;
             }
         };
-        let fr = sums.resultants(mu, lam);
+        let fr = self.friction_resultants(t, y, &m, &sums, mu);
         o.mu_eff = self.mean_coefficient(&sums, mu);
         o.mu_mz = self.iso.mu(lam, omega1, omega2);
         o.t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;

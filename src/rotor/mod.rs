@@ -11,7 +11,7 @@ pub(crate) mod params;
 mod problem;
 
 pub use crate::gear::FrictionLaw;
-pub use dae::{GearedRotor, InitialConditions};
+pub use dae::{GearedRotor, InitialConditions, RELEASE_BAND, STICK_RELAXATION};
 pub use params::{Inputs, Params, RotorData};
 pub use problem::{RotorProblem, SCALES};
 
@@ -191,6 +191,8 @@ pub struct Outputs {
     pub pairs_in_contact: i32,
     /// lambda < 0: the single-flank assumption is violated.
     pub contact_lost: bool,
+    /// A spur contact line sticks at the pitch line (`model.md` §4.1).
+    pub stick: bool,
     /// Displacement of centre 1.
     pub u1: [f64; 3],
     /// Displacement of centre 2.

@@ -207,6 +207,9 @@ impl SimState {
         }
         w.u32(self.validity.bits());
         w.f64(self.validity.t_checked);
+        // The contact-line stick mode of f (model.md §4.1), since layout version 5.
+        w.bool(self.model.stick());
+        w.f64(self.model.released());
     }
 
     /// Reads what [`SimState::write`] wrote; the model is rebuilt by replaying its
@@ -269,9 +272,24 @@ impl SimState {
         init.y0 = y0;
         let bits = r.u32("validity flags")?;
         let validity = Monitor::from_bits(bits, r.finite("validity check time")?);
+        let stick = r.bool("stick flag")?;
+        let released = r.finite("release sense")?;
+        if !(released == 0.0 || released.abs() == 1.0) || (stick && released != 0.0) {
+            return Err(DecodeError {
+                message: format!("stick mode {stick} with release sense {released}"),
+            }
+            .into());
+        }
+        if stick && !problem.model.stick_possible() {
+            return Err(DecodeError {
+                message: "a stuck contact line for a pair or law where none can stick".into(),
+            }
+            .into());
+        }
         problem.model.set_mu(mu)?;
         problem.model.set_d_phi(d_phi)?;
         problem.model.set_inputs(inputs);
+        problem.model.set_stick(stick, released);
         Ok(SimState {
             solver,
             t_comm,

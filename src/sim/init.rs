@@ -74,6 +74,9 @@ pub enum InitError {
     /// The periodic orbit could not be computed (no constant positive speed, solver failure,
     /// singular Newton matrix, no convergence).
     Periodic(PeriodicError),
+    /// The periodic orbit could not be computed for a pair whose contact lines can stick at
+    /// the pitch line (spur pair, friction law 1 or 3): likely the cause.
+    PeriodicStick(PeriodicError),
     /// The orbit exists but is not asymptotically stable: a Floquet multiplier on or outside
     /// the unit circle; a run started on it would not stay there.
     Unstable {
@@ -89,6 +92,13 @@ impl fmt::Display for InitError {
             InitError::Periodic(e) => write!(
                 f,
                 "no periodic orbit: {e}; use initialization = rest or static_equilibrium"
+            ),
+            InitError::PeriodicStick(e) => write!(
+                f,
+                "no periodic orbit: {e}. On this spur pair (friction law 1 or 3) a contact line \
+                 can stick at the pitch line, and the periodic start does not resolve stick \
+                 phases; use initialization = rest or static_equilibrium (the simulation \
+                 locates stick and slip) and let the transient decay"
             ),
             InitError::Unstable { multiplier } => write!(
                 f,
@@ -225,7 +235,10 @@ pub fn initial_state(
                 PeriodicSystem::new(*model.params(), inputs.omega1_at(t), inputs.t_load_at(t))?;
             let rtol =
                 (rtol * SHOOTING_RTOL_FACTOR).clamp(SHOOTING_RTOL_RANGE.0, SHOOTING_RTOL_RANGE.1);
-            let (z, report) = periodic_orbit(&mut sys, rtol)?;
+            let (z, report) = periodic_orbit(&mut sys, rtol).map_err(|e| match e {
+                InitError::Periodic(p) if model.stick_possible() => InitError::PeriodicStick(p),
+                e => e,
+            })?;
             let ic = InitialConditions {
                 u: std::array::from_fn(|i| z[i]),
                 u_dot: std::array::from_fn(|i| z[6 + i]),

@@ -11,6 +11,10 @@ use nalgebra::{SMatrix, SVector};
 /// Stop RADAU5 steps at predicted mesh events (see `Simulation::next_mesh_event`).
 pub(super) const MESH_EVENT_STOPS: bool = true;
 
+/// The kind of mesh event ([`Simulation::event_phases`]) where the sliding on a line
+/// reverses (the pitch line).
+pub(super) const REVERSAL: usize = 1;
+
 /// Mesh events closer than this fraction of a base-pitch passage to the current time are
 /// skipped (the kink then lies within the first 74 ns of a step at the default speed).
 /// 1e-6 before: two events that nearly coincide cost a sliver step of ~2 ns and a new LU.
@@ -153,8 +157,9 @@ impl Simulation {
             g.rb1 * m.alpha.tan()
         };
         // Laws without a sign jump at the reversal (regularised, EHL): no event there
-        // (a NaN phase is never the nearest event).
-        let sigma_rev = if model.params().friction_law.sharp_reversal() {
+        // (a NaN phase is never the nearest event); none either while a line sticks there
+        // (`sim::stick`: the stuck line sits on it, and its end is a located state event).
+        let sigma_rev = if model.params().friction_law.sharp_reversal() && !model.stick() {
             sigma_rev
         } else {
             f64::NAN

@@ -34,6 +34,7 @@ mod outputs;
 pub mod realtime;
 mod settings;
 mod stepping;
+mod stick;
 mod validate;
 pub mod validity;
 
@@ -42,6 +43,7 @@ pub use fmu_state::SimState;
 pub use inputs::Input;
 pub use settings::{SolverSettings, MAX_STEPS_PER_INTERVAL, PHI1_RTOL_FACTOR, RTOL_MAX, RTOL_MIN};
 pub use stepping::{comm_tolerance, StepReport};
+pub use stick::{StickChange, MAX_STICK_REPORTED};
 pub use validate::{DEFAULT_MAX_INTERNAL_STEPS, STEP_RESOLUTION};
 
 use crate::bytes::DecodeError;

@@ -93,6 +93,22 @@ impl Simulation {
     /// [`SimError::Param`] for a negative or non-finite value.
     pub fn set_h_fixed(&mut self, h_fixed: f64) -> Result<(), SimError> {
         check_h_fixed(h_fixed)?;
+        let model = &self.problem.model;
+        let p = model.params();
+        let friction = p.friction_law.load_dependent() || p.mu > 0.0;
+        if h_fixed > 0.0 && model.geometry().tan_beta_b == 0.0 && friction {
+            return Err(ParamError {
+                name: "h_fixed",
+                value: h_fixed,
+                requirement: "h_fixed = 0 for a spur pair with friction (beta = 0): its friction \
+                              jumps where a contact line enters, leaves or crosses the pitch line, \
+                              and a line can stick there; fixed steps cannot locate these events \
+                              (the first steps fail the Newton test whatever h_fixed). Use the \
+                              adaptive mode (h_fixed = 0) or a helical pair (beta != 0)"
+                    .into(),
+            }
+            .into());
+        }
         self.h_fixed = h_fixed;
         Ok(())
     }

@@ -4,6 +4,7 @@
 
 use super::error::{solver_err, SimError};
 use super::mesh_events::MESH_EVENT_STOPS;
+use super::stick::{StickChange, MAX_STICK_REPORTED};
 use super::validity::{self, Violation};
 use super::{closed_loop, validate, Simulation};
 use crate::radau5;
@@ -45,6 +46,11 @@ pub struct StepReport {
     pub violations: [Option<Violation>; validity::MAX_REPORTED],
     /// Further ones not listed.
     pub violations_dropped: u32,
+    /// Stick transitions of a spur contact line at the pitch line in this interval, in
+    /// order (`sim::stick`).
+    pub stick_changes: [Option<StickChange>; MAX_STICK_REPORTED],
+    /// Further ones not listed.
+    pub stick_changes_dropped: u32,
 }
 
 impl Simulation {
@@ -165,12 +171,33 @@ impl Simulation {
             } else {
                 self.closed_loop_stop(t_end, use_events)
             };
+            let mut entered = false;
             let r = self.solver.step(&mut self.problem, target).and_then(|tn| {
                 if use_events && at_event && tn == target {
-                    self.f_after_event()?;
+                    if self.sticks_at_landing() {
+                        self.enter_mode(true)?;
+                        entered = true;
+                    } else {
+                        self.f_after_event()?;
+                    }
                 }
                 Ok(tn)
             });
+            if entered {
+                report.note_stick(StickChange {
+                    t: self.solver.t(),
+                    stick: true,
+                });
+            }
+            // Stick transitions inside the step (located; the step may be retaken to end
+            // at one).
+            let r = match r {
+                Ok(_) if !entered => match self.stick_transitions(t_end, &mut report) {
+                    Ok(()) => Ok(self.solver.t()),
+                    Err(e) => return Err(self.stop_at_last_step(e)),
+                },
+                r => r,
+            };
             match r {
                 Ok(tn) if !validate::advanced(t_before, tn, t_end) => {
                     let e = radau5::Error::StepSizeTooSmall {

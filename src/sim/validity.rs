@@ -163,7 +163,13 @@ impl Monitor {
 /// Illinois regula falsi for the first sign change of `g` in `(a, b]` with `g(a) >= 0 >
 /// g(b)` (values `ga`, `gb` given), to a bracket of [`LOCATE_TOL`]; returns the right end
 /// (the first time known to be outside).
-pub(super) fn locate(mut g: impl FnMut(f64) -> f64, mut a: f64, mut ga: f64, mut b: f64, mut gb: f64) -> f64 {
+pub(super) fn locate(
+    mut g: impl FnMut(f64) -> f64,
+    mut a: f64,
+    mut ga: f64,
+    mut b: f64,
+    mut gb: f64,
+) -> f64 {
     let mut side = 0i32;
     for _ in 0..200 {
         if b - a <= LOCATE_TOL {

@@ -3,7 +3,7 @@
 //! consistent lambda of the load-dependent laws 3 and 4 by a scalar solve.
 
 use super::{kinematics, GearedRotor};
-use crate::gear::{EhlLine, Friction, FrictionLaw, FrictionSums, LineLaw, Mesh};
+use crate::gear::{EhlLine, Friction, FrictionLaw, FrictionSums, LineLaw, Mesh, PitchLine};
 use crate::rotor::{idx, ModelError, NY};
 use nalgebra::{SMatrix, SVector};
 
@@ -39,6 +39,22 @@ impl GearedRotor {
         lam: f64,
         asker: Asker,
     ) -> Result<(FrictionSums, f64), ModelError> {
+        self.friction_mode(t, y, m, lam, asker, self.stick)
+    }
+
+    /// [`GearedRotor::friction`] with the stick mode given (`stick`: the line nearest zero
+    /// sliding is left out of the sums and described in `FrictionSums::stuck`, for the
+    /// laws and pairs where a line can stick; `model.md` §4.1).
+    pub(crate) fn friction_mode(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        lam: f64,
+        asker: Asker,
+        stick: bool,
+    ) -> Result<(FrictionSums, f64), ModelError> {
+        let pitch = self.pitch_line(y, stick);
         let for_outputs = asker == Asker::Outputs;
         let k = kinematics(y);
         let (phi1, psi0) = (y[idx::PHI1], self.params.psi0);
@@ -74,11 +90,18 @@ impl GearedRotor {
         // law 4's depend on lambda too (the line load): its bits are the variant.
         let variant = match self.params.friction_law {
             FrictionLaw::LocalEhl => lam.to_bits(),
-            law => u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb),
+            law => {
+                let pitch_bits = match pitch {
+                    PitchLine::Slide => 0,
+                    PitchLine::Stick => 1,
+                    PitchLine::Released { sign, .. } => 2 + u64::from(sign > 0.0),
+                };
+                u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb) | pitch_bits << 1
+            }
         };
         let keep = asker != Asker::Integrator;
         let s = self.memo.sums(y, variant, keep, || {
-            g.friction_sums_line(m, phi1, psi0, &k, &line)
+            g.sums_with_stick(m, phi1, psi0, &k, &line, pitch)
         });
         if !(s.contact.length > 0.0) {
             return Err(ModelError::NoContact { t });
@@ -150,20 +173,33 @@ impl GearedRotor {
         y: &SVector<f64, NY>,
         m: &Mesh,
         at_y: Option<(FrictionSums, f64)>,
+        stick: bool,
     ) -> Result<(f64, (FrictionSums, f64)), ModelError> {
         let g = &self.geom;
         let grow = g.constraint_row(m);
         let kin = kinematics(y);
         let v = idx::V;
         let t_load = self.inputs.t_load_at(t);
-        let (mut a, mut r) = (0.0, 0.0);
+        // With a stuck line the stick force is eliminated first (model.md (4.14)): the
+        // constraint row is projected, `G' = G - c w`, and r gains `c x0_free`.
+        let stuck = match &at_y {
+            _ if !(stick && self.stick_possible()) => None,
+            Some((s, _)) => s.stuck,
+            None => {
+                self.friction_mode(t, y, m, y[idx::LAMBDA], Asker::Point, stick)?
+                    .0
+                    .stuck
+            }
+        };
+        let (gp, r_stick) = self.projected_row(y, m, &grow, stuck.as_ref());
+        let (mut a, mut r) = (0.0, r_stick);
         for i in 0..7 {
             let mut force = -self.damp[i] * y[v + i] - self.stiff[i] * y[i];
             if i == 6 {
                 force -= t_load;
             }
-            a += grow[i] * grow[i] / self.mass[i];
-            r -= grow[i] * force / self.mass[i];
+            a += gp[i] * grow[i] / self.mass[i];
+            r -= gp[i] * force / self.mass[i];
         }
         r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(m, &kin);
         // h(lambda), its friction part phi(lambda) = G M^-1 Q_f(lambda), and the friction
@@ -174,16 +210,19 @@ impl GearedRotor {
             let q = [q.f1.x, q.f1.y, q.f1.z, q.f2.x, q.f2.y, q.f2.z, -q.m2.z];
             let mut phi = 0.0;
             for i in 0..7 {
-                phi += grow[i] * q[i] / self.mass[i];
+                phi += gp[i] * q[i] / self.mass[i];
             }
             (lam * a + phi - r, phi, fr)
         };
         let h = |lam: f64| -> Result<Eval, ModelError> {
-            Ok(residual(lam, self.friction(t, y, m, lam, Asker::Point)?))
+            Ok(residual(
+                lam,
+                self.friction_mode(t, y, m, lam, Asker::Point, stick)?,
+            ))
         };
         let lam_y = y[idx::LAMBDA];
         if r == 0.0 {
-            return Ok((0.0, self.friction(t, y, m, 0.0, Asker::Point)?));
+            return Ok((0.0, self.friction_mode(t, y, m, 0.0, Asker::Point, stick)?));
         }
         let from_y = lam_y.is_finite() && lam_y * r > 0.0;
         let mut l0 = if from_y { lam_y } else { r / a };
@@ -230,5 +269,27 @@ impl GearedRotor {
             lambda_pos: l1,
             lambda_neg: l0,
         })
+    }
+
+    /// The constraint row for the hidden constraint with the stick force of `stuck`
+    /// eliminated (model.md (4.14)): `G' = G - c w` with `c = (G M^-1 w) / (w^T M^-1 w)`,
+    /// and the term `c x0_free` that r gains; `(G, 0)` without a stuck line.
+    pub(super) fn projected_row(
+        &self,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        grow: &[f64; 7],
+        stuck: Option<&crate::gear::StuckLine>,
+    ) -> ([f64; 7], f64) {
+        let Some(st) = stuck else {
+            return (*grow, 0.0);
+        };
+        let row = self.stick_row(y, m, st);
+        let gw: f64 = (0..7).map(|i| grow[i] * row.w[i] / self.mass[i]).sum();
+        let c = gw / row.a_w;
+        (
+            std::array::from_fn(|i| grow[i] - c * row.w[i]),
+            c * row.free,
+        )
     }
 }

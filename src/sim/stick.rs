@@ -1,0 +1,243 @@
+//! Stick and slip of a spur contact line at the pitch line (`model.md` §4.1) as state events
+//! of the simulation: the instants are located on the dense output of the step in which
+//! they happen, the step is retaken to end there, and the stepper restarts with the other
+//! mode of f.
+//!
+//! - Entry: a line's sliding speed `x0` changes sign (it crosses the pitch line) and, at the
+//!   crossing, the force that would hold it there is within its friction bound
+//!   ([`GearedRotor::stick_margin`](crate::rotor::GearedRotor::stick_margin) >= 0). Also
+//!   taken where a step lands on a predicted sliding reversal (`mesh_events`): there the
+//!   spur pair's mesh-event handling would otherwise hop to the other side.
+//! - Exit: the margin becomes negative (the force needed exceeds the bound, e.g. as the
+//!   line moves away from the pitch point or a second pair takes part of the load).
+//!
+//! A transition located after the FMU time being stepped to (on a look-ahead step) is not
+//! taken there: the step is retaken to end on the FMU time instead, and the next doStep
+//! finds the transition again. So a retake at the next communication point (`sync`) always
+//! runs in the mode the step was taken with.
+
+// `!(a >= b)` on purpose: NaN counts as outside, which `a < b` would let pass.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::validity::locate;
+use super::{SimError, Simulation, StepReport};
+use crate::radau5::{self, Retake};
+use crate::rotor::{idx, NY};
+use nalgebra::SVector;
+
+/// Most stick transitions one communication interval lists (further ones are counted).
+pub const MAX_STICK_REPORTED: usize = 4;
+
+/// A line whose sliding speed is at most this fraction of the rolling speed across a base
+/// pitch, `(omega1 + omega2) p_bt`, is at the pitch line (1e-6: ten times the margin by
+/// which a step lands before a predicted reversal, `mesh_events::JUMP_MARGIN`).
+const AT_PITCH_LINE: f64 = 1e-6;
+
+/// A located change of the stick mode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StickChange {
+    /// The instant in s.
+    pub t: f64,
+    /// true: a line started to stick; false: it slips again.
+    pub stick: bool,
+}
+
+impl Simulation {
+    /// Stick transitions in the step just accepted (the stepper at its end); `t_end` is
+    /// the FMU time this doStep steps to.
+    pub(super) fn stick_transitions(
+        &mut self,
+        t_end: f64,
+        report: &mut StepReport,
+    ) -> Result<(), SimError> {
+        let model = &self.problem.model;
+        if !model.stick_possible() {
+            return Ok(());
+        }
+        let (tp, tn) = (self.solver.t_prev(), self.solver.t());
+        if !(tp < tn) {
+            return Ok(());
+        }
+        let y_n = *self.solver.y();
+        let mut ys = SVector::<f64, NY>::zeros();
+        if model.released() != 0.0 && !model.stick() {
+            // A released line leaves the band: the law applies as usual from here; f is the
+            // same there when it slides in the released sense, else it jumps (restart).
+            if let Some(x_n) = model.pitch_line_sliding(tn, &y_n) {
+                if x_n.abs() > model.release_band(&y_n) {
+                    let same = x_n.signum() == model.released();
+                    self.problem.model.clear_release();
+                    if !same {
+                        let r = self.solver.restart(&mut self.problem, y_n, None);
+                        r.map_err(|e| super::error::solver_err(e, tn))?;
+                    }
+                    return Ok(());
+                }
+            }
+        }
+        let model = &self.problem.model;
+        let at = if model.stick() {
+            let g_n = model.stick_margin(tn, &y_n).unwrap_or(-1.0);
+            if g_n >= 0.0 {
+                return Ok(());
+            }
+            let solver = &self.solver;
+            let mut g = |s: f64| {
+                solver.dense_output(s, &mut ys);
+                model.stick_margin(s, &ys).unwrap_or(-1.0)
+            };
+            // (A margin already negative at the step's start, which the check of the last
+            // step end did not see, is taken as zero there: the first crossing after it.)
+            let g_p = g(tp).max(0.0);
+            locate(g, tp, g_p, tn, g_n)
+        } else {
+            let Some(x_n) = model.pitch_line_sliding(tn, &y_n) else {
+                return Ok(());
+            };
+            // At the pitch line already (a step that ended there, e.g. on a predicted
+            // reversal): stick from here if the line holds.
+            let rolling = (y_n[idx::OMEGA1] + y_n[idx::V + 6]).abs() * model.geometry().p_bt;
+            if x_n.abs() <= AT_PITCH_LINE * rolling {
+                if model.stick_margin(tn, &y_n).is_some_and(|g| g >= 0.0) {
+                    return self.switch_stick(tn, true, report).map_err(|e| {
+                        self.restart_pending = true;
+                        super::error::solver_err(e, tn)
+                    });
+                }
+                return Ok(());
+            }
+            self.solver.dense_output(tp, &mut ys);
+            let Some(x_p) = model.pitch_line_sliding(tp, &ys) else {
+                return Ok(());
+            };
+            // A sign change of the same line: both ends within a quarter pitch of rolling
+            // (when the nearest line changes, x0 jumps by the rolling speed across a pitch).
+            let quarter = 0.25 * rolling;
+            if x_p == 0.0
+                || (x_p < 0.0) == (x_n < 0.0)
+                || x_p.abs() > quarter
+                || x_n.abs() > quarter
+            {
+                return Ok(());
+            }
+            let sign = x_p.signum();
+            let solver = &self.solver;
+            let g = |s: f64| {
+                let mut z = SVector::<f64, NY>::zeros();
+                solver.dense_output(s, &mut z);
+                let x = model.pitch_line_sliding(s, &z).unwrap_or(0.0) * sign;
+                if x == 0.0 {
+                    -f64::MIN_POSITIVE
+                } else {
+                    x
+                }
+            };
+            let t_c = locate(g, tp, x_p.abs(), tn, -x_n.abs());
+            self.solver.dense_output(t_c, &mut ys);
+            if !(model.stick_margin(t_c, &ys).unwrap_or(-1.0) >= 0.0) {
+                return Ok(());
+            }
+            t_c
+        };
+        let on = !self.problem.model.stick();
+        if at > t_end {
+            // On the look-ahead part: end this doStep's stepping on t_end in the current
+            // mode; the next doStep meets the transition again.
+            self.retake_to(t_end)?;
+            return Ok(());
+        }
+        self.switch_stick(at, on, report).map_err(|e| {
+            let ts = self.solver.t();
+            self.restart_pending = true;
+            super::error::solver_err(e, ts)
+        })
+    }
+
+    /// The last step retaken to end on `t` (no-op at its end).
+    fn retake_to(&mut self, t: f64) -> Result<(), SimError> {
+        if t >= self.solver.t() {
+            return Ok(());
+        }
+        match self.solver.retake(&mut self.problem, t) {
+            Ok(Retake::Exact) => Ok(()),
+            Ok(Retake::Interpolated) => {
+                self.restart_pending = true;
+                Ok(())
+            }
+            Err(e) => {
+                self.restart_pending = true;
+                Err(super::error::solver_err(e, t))
+            }
+        }
+    }
+
+    /// Switches the stick mode at `t` (inside the last step or at its end): the step is
+    /// retaken to end there, lambda re-projected for the new mode, the stepper restarted.
+    fn switch_stick(
+        &mut self,
+        t: f64,
+        on: bool,
+        report: &mut StepReport,
+    ) -> Result<(), radau5::Error> {
+        if t < self.solver.t() {
+            self.solver.retake(&mut self.problem, t)?;
+        }
+        self.enter_mode(on)?;
+        report.note_stick(StickChange {
+            t: self.solver.t(),
+            stick: on,
+        });
+        Ok(())
+    }
+
+    /// Sets the stick mode at the stepper's current point and restarts it there with the
+    /// consistent lambda of the new mode. Leaving it, the line slides in the sense opposite
+    /// to its stick force there (the force is at its bound: it now resists that sliding).
+    pub(super) fn enter_mode(&mut self, on: bool) -> Result<(), radau5::Error> {
+        let t = self.solver.t();
+        let model = &mut self.problem.model;
+        let release = if on {
+            0.0
+        } else {
+            -model
+                .stick_state(t, self.solver.y())
+                .map_or(0.0, |(_, f_w)| f_w)
+                .signum()
+        };
+        model.set_stick(on, release);
+        let mut y = *self.solver.y();
+        if let Ok(l) = model.consistent_lambda(t, &y) {
+            y[idx::LAMBDA] = l;
+        }
+        self.solver.restart(&mut self.problem, y, None)
+    }
+
+    /// After a step that landed on a predicted mesh event: whether it is a sliding reversal
+    /// at which a line sticks (`mesh_events` lands on it from before, by a hair). Then the
+    /// stick mode starts here instead of the hop to the other side of the jump.
+    pub(super) fn sticks_at_landing(&self) -> bool {
+        let model = &self.problem.model;
+        if model.stick() || !model.stick_possible() {
+            return false;
+        }
+        let Some((gap, _, p, which)) = self.mesh_event_gap(0.0) else {
+            return false;
+        };
+        which == super::mesh_events::REVERSAL
+            && gap < super::mesh_events::JUMP_MERGE * p
+            && model
+                .stick_margin(self.solver.t(), self.solver.y())
+                .is_some_and(|g| g >= 0.0)
+    }
+}
+
+impl StepReport {
+    /// Records a stick transition (the first [`MAX_STICK_REPORTED`], the rest counted).
+    pub(super) fn note_stick(&mut self, c: StickChange) {
+        if let Some(slot) = self.stick_changes.iter_mut().find(|s| s.is_none()) {
+            *slot = Some(c);
+        } else {
+            self.stick_changes_dropped += 1;
+        }
+    }
+}
