@@ -1078,6 +1078,11 @@ fn blobs(fz: &mut Fuzzer<'_>, count: u64, snapshot_len: usize) {
         } else {
             "fmi3DeserializeFMUState (mutated)"
         };
+        // FUZZ_LAST_BLOB=path: each blob is written there before it is read (to keep the
+        // one a hang or crash happened on).
+        if let Ok(path) = std::env::var("FUZZ_LAST_BLOB") {
+            let _ = std::fs::write(path, &blob);
+        }
         // SAFETY: a buffer of blob.len() bytes.
         let s = fz.call(what, !resealed || foreign, || unsafe {
             fmi3DeserializeFMUState(dst.c, blob.as_ptr(), blob.len(), &mut back)
