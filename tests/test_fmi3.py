@@ -286,3 +286,23 @@ def test_without_early_return_it_behaves_as_fmi2(pkg3):
             assert raw.t < last < raw.t + 1e-3
         finally:
             raw.s.freeInstance()
+
+
+def test_fmpy_simulate_with_early_return(pkg2, fmu3_path):
+    """FMPy's own master with early_return_allowed: a sample at each located lift-off
+    (the first at the 2.0 FMU's discard instant), Fn ~ 0 there, and the run goes on to the
+    stop time; without it, the regular grid only."""
+    inp = np.array([(0.0, 0.0), (0.002, 0.0), (0.002, -200.0), (0.01, -200.0)],
+                   dtype=[("time", float), ("T_load", float)])
+    kw = dict(stop_time=0.01, output_interval=1e-3, input=inp, relative_tolerance=1e-9,
+              start_values={"initialization": 2}, output=["Fn", "contact_lost"])
+    grid = simulate_fmu(str(fmu3_path), **kw)
+    assert len(grid) == 11
+    r = simulate_fmu(str(fmu3_path), early_return_allowed=True, **kw)
+    t = r["time"]
+    off_grid = [k for k, x in enumerate(t) if abs(x * 1e3 - round(x * 1e3)) > 1e-6]
+    assert len(off_grid) >= 1 and t[-1] == pytest.approx(0.01, abs=1e-15), t
+    first = off_grid[0]
+    assert abs(t[first] - _discard_instant_of_fmi2(pkg2)) <= 1e-9
+    for k in off_grid:
+        assert abs(r["Fn"][k]) < 1.0 and r["contact_lost"][k], (t[k], r["Fn"][k])
