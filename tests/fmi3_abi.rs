@@ -561,3 +561,82 @@ fn early_return_stops_at_the_discard_instant_and_goes_on() {
         z.messages()
     );
 }
+
+/// The same run through both versions' functions: outputs, output derivatives, the Integer
+/// and Boolean outputs and the Enumeration parameters equal to the bit.
+#[test]
+fn both_versions_give_the_same_values() {
+    let f3 = Fmu::new(false);
+    f3.init(&[("mu", 0.07)]);
+    let n = CString::new("fmi2").unwrap();
+    let g = CString::new(GUID).unwrap();
+    let cb = geared_rotor::fmi2::types::Fmi2CallbackFunctions {
+        logger: None,
+        allocate_memory: None,
+        free_memory: None,
+        step_finished: None,
+        component_environment: std::ptr::null_mut(),
+    };
+    let h = 2e-4;
+    let reals: Vec<u32> = VARIABLES
+        .iter()
+        .filter(|v| v.ty == VarType::Real && v.causality == Causality::Output)
+        .map(|v| v.vr)
+        .collect();
+    let (vr_pairs, vr_lost, vr_init) = (
+        by_name("pairs_in_contact").unwrap().vr,
+        by_name("contact_lost").unwrap().vr,
+        by_name("initialization").unwrap().vr,
+    );
+    let ones = vec![1i32; reals.len()];
+    // SAFETY: valid arguments and buffers of the right lengths; both instances freed.
+    unsafe {
+        let c = c2::fmi2Instantiate(n.as_ptr(), 1, g.as_ptr(), std::ptr::null(), &cb, 0, 0);
+        let mu = 0.07;
+        let vr_mu = by_name("mu").unwrap().vr;
+        c2::fmi2SetReal(c, &vr_mu, 1, &mu);
+        c2::fmi2SetupExperiment(c, 1, 1e-9, 0.0, 0, 0.0);
+        c2::fmi2EnterInitializationMode(c);
+        c2::fmi2ExitInitializationMode(c);
+        for k in 0..40 {
+            let t = f64::from(k) * h;
+            assert_eq!(c2::fmi2DoStep(c, t, h, 1), Fmi2Status::OK);
+            assert_eq!(f3.step(t, h).0, Fmi3Status::OK);
+            let (mut y2, mut d2) = (vec![0.0; reals.len()], vec![0.0; reals.len()]);
+            c2::fmi2GetReal(c, reals.as_ptr(), reals.len(), y2.as_mut_ptr());
+            c2::fmi2GetRealOutputDerivatives(
+                c,
+                reals.as_ptr(),
+                reals.len(),
+                ones.as_ptr(),
+                d2.as_mut_ptr(),
+            );
+            let mut d3 = vec![0.0; reals.len()];
+            let s = fmi3GetOutputDerivatives(
+                f3.c,
+                reals.as_ptr(),
+                reals.len(),
+                ones.as_ptr(),
+                d3.as_mut_ptr(),
+                d3.len(),
+            );
+            assert_eq!(s, Fmi3Status::OK);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&f3.outputs()), bits(&y2), "outputs at step {k}");
+            assert_eq!(bits(&d3), bits(&d2), "output derivatives at step {k}");
+            let (mut p2, mut l2, mut e2) = (0i32, 0i32, 0i32);
+            c2::fmi2GetInteger(c, &vr_pairs, 1, &mut p2);
+            c2::fmi2GetBoolean(c, &vr_lost, 1, &mut l2);
+            c2::fmi2GetInteger(c, &vr_init, 1, &mut e2);
+            let (mut p3, mut l3, mut e3) = (0i32, 7u8, 0i64);
+            assert_eq!(fmi3GetInt32(f3.c, &vr_pairs, 1, &mut p3, 1), Fmi3Status::OK);
+            assert_eq!(
+                fmi3GetBoolean(f3.c, &vr_lost, 1, &mut l3, 1),
+                Fmi3Status::OK
+            );
+            assert_eq!(fmi3GetInt64(f3.c, &vr_init, 1, &mut e3, 1), Fmi3Status::OK);
+            assert_eq!((p3, i32::from(l3), e3), (p2, l2, i64::from(e2)));
+        }
+        c2::fmi2FreeInstance(c);
+    }
+}
