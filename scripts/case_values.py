@@ -5,8 +5,12 @@ converts it to SI with the units the FMU's model description declares.
 
 A value without a unit is taken in the variable's SI unit. A unit must be the
 variable's unit or one of its declared display units (display = factor * SI + offset);
-"µm" may be written for "um". Integer and Enumeration variables take whole numbers,
-Booleans true/false.
+"µm" may be written for "um". Integer variables take whole numbers, Enumeration variables
+their item name or number (initialization=rest or initialization=1), Booleans true/false.
+
+A value without a unit that is implausible in the SI unit (a length of 1 m or more, a speed
+above 1000 rad/s, an angle above 90 deg) is taken as given but `unitless_warning` says so:
+`m_n=3` is a module of 3 m.
 """
 
 from __future__ import annotations
@@ -16,6 +20,14 @@ import re
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _PATTERN = re.compile(rf"^\s*([A-Za-z_][\w.\[\]]*)\s*=\s*({_NUMBER}|true|false)\s*(\S*)\s*$")
+_NAMED = re.compile(r"^\s*([A-Za-z_][\w.\[\]]*)\s*=\s*([A-Za-z_]\w*)\s*$")
+
+#: SI unit -> (largest plausible magnitude of a value given without a unit, what to write instead)
+PLAUSIBLE_WITHOUT_UNIT = {
+    "m": (1.0, "mm"),  # a gear length of 1 m or more written without unit is most likely mm
+    "rad/s": (1000.0, "rpm"),  # 1000 rad/s = 9549 rpm
+    "rad": (1.5707963267948966, "deg"),  # above 90 deg no angle of the model makes sense
+}
 
 
 class SetError(ValueError):
@@ -37,11 +49,14 @@ def display_units(md, unit: str) -> dict[str, tuple[float, float]]:
 
 def parse_set(md, text: str) -> tuple[str, float | int | bool]:
     """(name, value in SI) of one --set argument, checked against the model description."""
+    variables = {v.name: v for v in md.modelVariables}
+    named = _NAMED.match(text)
+    if named and named.group(2) not in ("true", "false"):
+        return _parse_named(variables, text, *named.groups())
     m = _PATTERN.match(text)
     if not m:
         raise SetError(f"--set {text!r}: write NAME=VALUE or NAME=VALUEunit, e.g. omega1=1500rpm")
     name, number, unit = m.groups()
-    variables = {v.name: v for v in md.modelVariables}
     if name not in variables:
         close = difflib.get_close_matches(name, variables, n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else ""
@@ -73,3 +88,47 @@ def parse_set(md, text: str) -> tuple[str, float | int | bool]:
             raise SetError(f"--set {text!r}: {name} is {var.type}, give a whole number")
         return name, int(round(value))
     return name, value
+
+
+def enum_items(var) -> list[tuple[str, int]]:
+    """(name, value) of the items of an Enumeration variable, else []."""
+    dt = getattr(var, "declaredType", None)
+    items = getattr(dt, "items", None) or []
+    return [(i.name, int(i.value)) for i in items]
+
+
+def _parse_named(variables: dict, text: str, name: str, word: str) -> tuple[str, int]:
+    if name not in variables:
+        close = difflib.get_close_matches(name, variables, n=3)
+        hint = f"; did you mean {', '.join(close)}?" if close else ""
+        raise SetError(f"--set {text!r}: the FMU has no variable {name!r}{hint}")
+    var = variables[name]
+    items = enum_items(var)
+    if not items:
+        what = f": {var.description}" if var.description else ""
+        raise SetError(f"--set {text!r}: {name} takes a number ({var.type}), not the word {word!r}{what}")
+    for item, value in items:
+        if item == word:
+            return name, value
+    listed = ", ".join(f"{n} (= {v})" for n, v in items)
+    raise SetError(f"--set {text!r}: {name} has no item {word!r}; use one of {listed}")
+
+
+def unitless_warning(md, text: str) -> str | None:
+    """A warning when `text` gives a value without a unit that is implausible in the
+    variable's SI unit (PLAUSIBLE_WITHOUT_UNIT), else None."""
+    m = _PATTERN.match(text)
+    if not m or m.group(3) or m.group(2) in ("true", "false"):
+        return None
+    name, number = m.group(1), float(m.group(2))
+    var = next((v for v in md.modelVariables if v.name == name), None)
+    if var is None or var.type != "Real":
+        return None
+    si = unit_of(var)
+    if si not in PLAUSIBLE_WITHOUT_UNIT:
+        return None
+    limit, instead = PLAUSIBLE_WITHOUT_UNIT[si]
+    if abs(number) < limit:
+        return None
+    return (f"--set {text!r}: no unit, so {name} = {number:g} {si}; that is implausible for a gear "
+            f"pair (|{name}| >= {limit:g} {si}). If you meant {instead}, write {name}={m.group(2)}{instead}")

@@ -60,7 +60,12 @@ impl Model for Lag {
         }
     }
     fn invalidate(&mut self) {}
-    fn exit_initialization(&mut self, exp: &Experiment, _: &Logger) -> Result<(), LagError> {
+    fn exit_initialization(
+        &mut self,
+        _: &'static str,
+        exp: &Experiment,
+        _: &Logger,
+    ) -> Result<(), LagError> {
         self.t = Some(exp.start);
         Ok(())
     }

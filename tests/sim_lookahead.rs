@@ -7,8 +7,9 @@ mod common;
 
 use common::rotor::{driven, scaled_dev};
 use geared_rotor::radau5::Radau5;
+use geared_rotor::rotor::RotorProblem;
 use geared_rotor::rotor::{idx, GearedRotor, Params, NY};
-use geared_rotor::sim::{RotorProblem, Simulation, SolverSettings};
+use geared_rotor::sim::{Simulation, SolverSettings};
 use nalgebra::SVector;
 
 const OMEGA1: f64 = 314.159;
@@ -31,7 +32,13 @@ fn reference(
     let mut model = driven(Params::default(), OMEGA1);
     let y0 = model.initialize(0.0).unwrap();
     let mut p = RotorProblem { model };
-    let mut s = Radau5::new(&mut p, SETTINGS.options(), 0.0, y0).unwrap();
+    let mut s = Radau5::new(
+        &mut p,
+        SETTINGS.options(&geared_rotor::rotor::SCALES),
+        0.0,
+        y0,
+    )
+    .unwrap();
     s.integrate_to(&mut p, t_c).unwrap();
     let at_c = *s.y();
     change(&mut p.model);
@@ -53,7 +60,13 @@ fn small_communication_steps_interpolate() {
     let mut model = driven(Params::default(), OMEGA1);
     let y0 = model.initialize(0.0).unwrap();
     let mut p = RotorProblem { model };
-    let mut r = Radau5::new(&mut p, SETTINGS.options(), 0.0, y0).unwrap();
+    let mut r = Radau5::new(
+        &mut p,
+        SETTINGS.options(&geared_rotor::rotor::SCALES),
+        0.0,
+        y0,
+    )
+    .unwrap();
     let (mut ahead, mut checked, mut worst) = (0, 0, 0.0f64);
     for k in 0..n {
         a.do_step(k as f64 * h, h).unwrap();

@@ -11,7 +11,8 @@ use common::rotor::{driven, scaled_dev};
 use geared_rotor::gear::GearData;
 use geared_rotor::radau5::Radau5;
 use geared_rotor::rotor::Params;
-use geared_rotor::sim::{RotorProblem, Simulation, SolverSettings};
+use geared_rotor::rotor::RotorProblem;
+use geared_rotor::sim::{Simulation, SolverSettings};
 
 const OMEGA1: f64 = 314.159;
 const SETTINGS: SolverSettings = SolverSettings {
@@ -41,7 +42,7 @@ fn located_jumps_agree_with_plain_radau5_and_conserve_energy() {
         rtol: 1e-9,
         ..SETTINGS
     };
-    let mut r = Radau5::new(&mut p, tight.options(), 0.0, y0).unwrap();
+    let mut r = Radau5::new(&mut p, tight.options(&geared_rotor::rotor::SCALES), 0.0, y0).unwrap();
     let n = (t_end / every).round() as usize;
     let mut refs = Vec::new();
     for k in 1..=n {

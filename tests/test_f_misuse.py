@@ -173,7 +173,7 @@ def test_communication_point_round_off_is_accepted(pkg):
         ({"m_n": 0.0}, ["m_n"]),
         ({"alpha_n": math.radians(50.0)}, ["alpha_n"]),
         ({"mu": -0.1}, ["mu"]),
-        ({"m1": 0.0}, ["m1"]),
+        ({"m1": -1.0}, ["m1"]),  # 0 is the solid body of the geometry (docs/model.md §5)
         ({"J2": -1.0}, ["J2"]),
         ({"omega1_filter_frequency": 0.0}, ["omega1_filter_frequency"]),
         ({"rtol": 0.0}, ["rtol"]),

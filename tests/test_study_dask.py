@@ -86,7 +86,7 @@ def test_eight_points_on_two_workers_equal_a_serial_loop_bit_for_bit(client, fmu
 
 
 def test_an_invalid_point_is_a_row_with_its_error_and_the_others_run(client, fmu_path, tmp_path):
-    study = _study(fmu_path, list={"mu": [0.05, -1.0, 0.02, 0.1, 0.05], "z1": [27, 27, 3, 19, 27],
+    study = _study(fmu_path, list={"mu": [0.05, -1.0, 0.02, 0.1, 0.05], "z1": [27, 27, 3, 25, 27],
                                    "omega1": ["3000 rpm"] * 4 + [0.0]})
     summary = sweep(study, out=tmp_path / "r", client=client, progress=False)
     rows = read_results(tmp_path / "r").to_pylist()

@@ -6,11 +6,11 @@
  *
  *   unzip GearedRotor.fmu -d GearedRotor
  *   cc examples/c/minimal_master.c -o minimal_master -ldl
- *   ./minimal_master GearedRotor
+ *   ./minimal_master GearedRotor [mu]
  *
- * Value references and the GUID come from GearedRotor/modelDescription.xml (the GUID is
- * passed on the command line by tests/test_c_master.py; a real master reads it from
- * the XML).
+ * The GUID and the value references are read from GearedRotor/modelDescription.xml by
+ * name (a small attribute scanner, enough for this file; a larger master would use an XML
+ * library), so a rebuilt .fmu with renumbered variables needs no change here.
  */
 #include <dlfcn.h>
 #include <stdarg.h>
@@ -43,14 +43,66 @@ static void logger(void *env, const char *instance, fmi2Status status, const cha
     fputc('\n', stderr);
 }
 
+/* The whole file as a NUL-terminated string (NULL on failure). */
+static char *read_file(const char *path) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (s && fread(s, 1, (size_t)n, f) != (size_t)n) { free(s); s = NULL; }
+    if (s) s[n] = '\0';
+    fclose(f);
+    return s;
+}
+
+/* The value of attribute `attr` in the XML start tag at `tag` (up to its '>') into out. */
+static int attribute(const char *tag, const char *attr, char *out, size_t size) {
+    const char *end = strchr(tag, '>');
+    char key[64];
+    snprintf(key, sizeof key, " %s=\"", attr);
+    const char *p = strstr(tag, key);
+    if (!p || !end || p > end) return 0;
+    p += strlen(key);
+    const char *q = strchr(p, '"');
+    if (!q || q > end || (size_t)(q - p) >= size) return 0;
+    memcpy(out, p, (size_t)(q - p));
+    out[q - p] = '\0';
+    return 1;
+}
+
+/* The valueReference of the ScalarVariable called `name`, or -1. */
+static long value_reference(const char *xml, const char *name) {
+    char buf[256];
+    for (const char *tag = strstr(xml, "<ScalarVariable "); tag;
+         tag = strstr(tag + 1, "<ScalarVariable ")) {
+        if (attribute(tag, "name", buf, sizeof buf) && strcmp(buf, name) == 0)
+            return attribute(tag, "valueReference", buf, sizeof buf) ? strtol(buf, NULL, 10) : -1;
+    }
+    return -1;
+}
+
 #define LOAD(name) \
     if (!(name = dlsym(lib, #name))) { fprintf(stderr, "missing %s\n", #name); return 1; }
 
 int main(int argc, char **argv) {
-    if (argc < 3) {
-        fprintf(stderr, "usage: %s EXTRACTED_FMU_DIR GUID [mu]\n", argv[0]);
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s EXTRACTED_FMU_DIR [mu]\n", argv[0]);
         return 2;
     }
+    char path[4096], guid[128];
+    snprintf(path, sizeof path, "%s/modelDescription.xml", argv[1]);
+    char *xml = read_file(path);
+    if (!xml) { fprintf(stderr, "cannot read %s\n", path); return 1; }
+    const char *root = strstr(xml, "<fmiModelDescription");
+    long vr_mu = value_reference(xml, "mu"), vr_t1 = value_reference(xml, "T1"),
+         vr_fn = value_reference(xml, "Fn");
+    if (!root || !attribute(root, "guid", guid, sizeof guid) || vr_mu < 0 || vr_t1 < 0 || vr_fn < 0) {
+        fprintf(stderr, "%s: no guid, or no variable mu, T1 or Fn\n", path);
+        return 1;
+    }
+    free(xml);
     char so[4096];
     snprintf(so, sizeof so, "%s/binaries/linux64/GearedRotor.so", argv[1]);
     void *lib = dlopen(so, RTLD_NOW | RTLD_LOCAL);
@@ -72,13 +124,14 @@ int main(int argc, char **argv) {
     LOAD(fmi2Terminate) LOAD(fmi2FreeInstance)
 
     fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
-    fmi2Component c = fmi2Instantiate("gears", 1 /* fmi2CoSimulation */, argv[2], NULL, &cb, 0, 0);
+    fmi2Component c = fmi2Instantiate("gears", 1 /* fmi2CoSimulation */, guid, NULL, &cb, 0, 0);
     if (!c) { fprintf(stderr, "fmi2Instantiate failed\n"); return 1; }
 
-    const fmi2ValueReference vr_mu = 29 /* mu */, vr_out[2] = {42 /* T1 */, 47 /* Fn */};
-    fmi2Real mu = argc > 3 ? atof(argv[3]) : 0.05, out[2];
+    const fmi2ValueReference vr_set = (fmi2ValueReference)vr_mu,
+                             vr_out[2] = {(fmi2ValueReference)vr_t1, (fmi2ValueReference)vr_fn};
+    fmi2Real mu = argc > 2 ? atof(argv[2]) : 0.05, out[2];
     const fmi2Real h = 1e-4, stop = 0.01;
-    if (fmi2SetReal(c, &vr_mu, 1, &mu) > 1 || fmi2SetupExperiment(c, 0, 0.0, 0.0, 1, stop) > 1 ||
+    if (fmi2SetReal(c, &vr_set, 1, &mu) > 1 || fmi2SetupExperiment(c, 0, 0.0, 0.0, 1, stop) > 1 ||
         fmi2EnterInitializationMode(c) > 1 || fmi2ExitInitializationMode(c) > 1) {
         fprintf(stderr, "initialisation failed\n");
         return 1;

@@ -279,7 +279,7 @@ impl GearedRotorFmu {
         })
     }
 
-    fn log_exit_initialization(&self, exp: &Experiment, log: &Logger) {
+    fn log_exit_initialization(&self, func: &'static str, exp: &Experiment, log: &Logger) {
         if let (Ok(init), Some(sim)) = (values::initialization(&self.values), self.sim.as_ref()) {
             let r = sim.init_report();
             if init == Initialization::Periodic && log.enabled(Category::Solver) {
@@ -295,15 +295,20 @@ impl GearedRotorFmu {
                 );
             }
         }
+        if let Some(sim) = self.sim.as_ref() {
+            for w in values::init_warnings(sim.model(), sim.time()) {
+                log.log(Status::Warning, Category::Warning, &format!("{func}: {w}"));
+            }
+        }
         let (s, source) = values::settings(&self.values, exp);
-        if log.enabled(Category::Solver) {
+        if let (true, Some(sim)) = (log.enabled(Category::Solver), self.sim.as_ref()) {
             log.log(
                 Status::OK,
                 Category::Solver,
                 &format!(
                     "RADAU5: rtol = {:e} (from {source}), atol_i = rtol * scale_i with scales {:?}, h_max = {:e} s, start time {} s",
                     s.rtol,
-                    sim::SCALES,
+                    sim.model().scales(),
                     s.h_max,
                     Short(exp.start)
                 ),
@@ -344,10 +349,15 @@ impl Model for GearedRotorFmu {
         self.dirty = true;
     }
 
-    fn exit_initialization(&mut self, exp: &Experiment, log: &Logger) -> Result<(), BindingError> {
+    fn exit_initialization(
+        &mut self,
+        func: &'static str,
+        exp: &Experiment,
+        log: &Logger,
+    ) -> Result<(), BindingError> {
         values::on_violation(&self.values).map_err(|e| sim_err(SimError::Param(e)))?;
         self.ensure_sim(exp)?;
-        self.log_exit_initialization(exp, log);
+        self.log_exit_initialization(func, exp, log);
         Ok(())
     }
 

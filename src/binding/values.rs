@@ -4,9 +4,11 @@
 
 use crate::fmi2::model::Experiment;
 use crate::fmi2::variables::{self, Var, N_VARIABLES, VARIABLES};
+use crate::gear::friction::iso_mean;
 use crate::gear::PairGeometry;
 use crate::parameter::ParamError;
-use crate::rotor::{param_table, Outputs, Params};
+use crate::rotor::params::SolidBodies;
+use crate::rotor::{param_table, GearedRotor, Outputs, Params};
 use crate::sim::{Initialization, Input, OnViolation, SolverSettings};
 
 /// The value store: one f64 per variable, in table order (Integer, Boolean and
@@ -30,7 +32,8 @@ pub fn start_values() -> Values {
 /// Parameters from the store, through the parameter table (`rotor::param_table`): every
 /// parameter of [`Params`] is read from the variable of the same name; the integer and
 /// code parameters are checked here (e.g. the friction-law code), the rest by
-/// `Params::validate` (names the parameter and the bound).
+/// `Params::validate` (names the parameter and the bound). A mass or inertia of 0 becomes
+/// the solid steel gear body of the geometry (`Params::with_solid_bodies`).
 pub fn params(values: &Values) -> Result<Params, ParamError> {
     let mut p = Params::default();
     for q in param_table::all() {
@@ -45,7 +48,26 @@ pub fn params(values: &Values) -> Result<Params, ParamError> {
         })?;
         q.set(&mut p, values[var.var as usize])?;
     }
-    Ok(p)
+    Ok(p.with_solid_bodies())
+}
+
+/// The warnings of the start (logged by fmi2ExitInitializationMode): gear bodies whose
+/// given masses or inertias are implausible for the geometry (`Params::implausible_bodies`),
+/// and friction law 3 outside its fitted range at the start inputs.
+pub fn init_warnings(model: &GearedRotor, t: f64) -> Vec<String> {
+    let mut out = model.params().implausible_bodies(model.geometry());
+    let outside = model.law3_outside_fitted_range(t);
+    if !outside.is_empty() {
+        out.push(format!(
+            "friction_law = 3 (ISO/TR 14179-2, Schlenk) at the start inputs: {}; the \
+             formula was fitted for v_t >= {} m/s and F_bt/b >= {} N/mm (docs/friction.md, \
+             law 3) and extrapolates here",
+            outside.join(", "),
+            iso_mean::FITTED_V_T_MIN,
+            iso_mean::FITTED_LOAD_MIN
+        ));
+    }
+    out
 }
 
 /// The Enumeration parameter `initialization` (values checked at the set as well).
@@ -114,6 +136,8 @@ pub fn input_of(var: Var) -> Option<Input> {
 /// entries untouched). Straight-line stores: one match per output and value reference
 /// cost ~5 ns each in indirect-branch misses (perf, closed loop at H = 1e-5 s).
 pub fn output_values(o: &Outputs, v: &mut Values) {
+    v[Var::T_damp as usize] = o.t_damp;
+    v[Var::P_damp_phi as usize] = o.p_damp_phi;
     v[Var::T1 as usize] = o.t1;
     v[Var::omega1_filtered as usize] = o.omega1;
     v[Var::omega2 as usize] = o.omega2;
@@ -181,9 +205,21 @@ pub fn output_values(o: &Outputs, v: &mut Values) {
     v[Var::M_contact2_z as usize] = o.m_contact2[2];
 }
 
-/// Value of a calculated parameter from the pair geometry (model.md §2, §9.7).
+/// Value of a calculated parameter from the pair geometry (model.md §2, §5, §9.7).
 pub fn calculated_value(g: &PairGeometry, var: Var) -> Option<f64> {
+    let solid = || SolidBodies::of(g);
     Some(match var {
+        Var::H_V_iso => iso_mean::ohlendorf_h_v(
+            f64::from(g.data.z1),
+            f64::from(g.data.z2),
+            g.cos_beta_b,
+            g.eps_1,
+            g.eps_2,
+        ),
+        Var::m1_solid => solid().m[0],
+        Var::J1_solid => solid().j[0],
+        Var::m2_solid => solid().m[1],
+        Var::J2_solid => solid().j[1],
         Var::r_b1 => g.rb1,
         Var::r_b2 => g.rb2,
         Var::a_w => g.a_w,

@@ -250,7 +250,7 @@ impl<M: Model> Instance<M> {
         let func = self.dialect.exit_init.name;
         self.guard(func, self.dialect.exit_init.allowed)?;
         self.model
-            .exit_initialization(&self.experiment, &self.logger)
+            .exit_initialization(func, &self.experiment, &self.logger)
             .map_err(|error| FmuError::Model { func, error })?;
         self.phase = Phase::StepComplete;
         Ok(())

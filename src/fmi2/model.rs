@@ -91,7 +91,13 @@ pub trait Model: Sized {
     ///
     /// # Errors
     /// The model's reason (invalid parameters, no consistent initial state).
-    fn exit_initialization(&mut self, exp: &Experiment, log: &Logger) -> Result<(), Self::Error>;
+    /// `func` is the FMI function, for messages.
+    fn exit_initialization(
+        &mut self,
+        func: &'static str,
+        exp: &Experiment,
+        log: &Logger,
+    ) -> Result<(), Self::Error>;
     /// Terminate (e.g. log totals).
     fn terminate(&self, log: &Logger);
     /// The value of `var` (any causality); `phase` tells whether it is computed from

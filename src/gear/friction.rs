@@ -303,6 +303,15 @@ pub struct Friction {
     pub p: f64,
 }
 
+impl Friction {
+    /// The generalised friction force `Q_f = (F1, F2, -M2 . e_z)` on q = (u1, u2, phi2)
+    /// (`model.md` (4.11); phi2 turns about -e_z).
+    pub fn generalised(&self) -> [f64; 7] {
+        let (f1, f2) = (self.f1, self.f2);
+        [f1.x, f1.y, f1.z, f2.x, f2.y, f2.z, -self.m2.z]
+    }
+}
+
 impl FrictionSums {
     /// Scales the unit sums with `p = mu |lambda| / l` (`model.md` §4 resultants).
     pub fn resultants(&self, mu: f64, lambda: f64) -> Friction {

@@ -404,8 +404,11 @@ impl PairGeometry {
                 "b",
                 d.b,
                 format!(
-                    "eps_alpha + eps_beta = {} <= 60 (bound of the contact-line loop)",
-                    Short(eps_alpha + eps_beta)
+                    "eps_alpha + eps_beta = {} <= 60 (bound of the contact-line loop): \
+                     b <= {:.4e} m ({:.1} mm) for this pair and helix angle",
+                    Short(eps_alpha + eps_beta),
+                    (60.0 - eps_alpha) * p_bt / tan_beta_b.abs(),
+                    1e3 * (60.0 - eps_alpha) * p_bt / tan_beta_b.abs()
                 ),
             ));
         }

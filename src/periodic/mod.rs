@@ -22,7 +22,8 @@ pub mod shooting;
 use crate::parameter::ParamError;
 use crate::radau5::{self, Options, Radau5, Statistics, Tolerance};
 use crate::rotor::{
-    idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, RotorProblem, NY, SCALES,
+    dae_structure, idx, GearedRotor, InitialConditions, Inputs, ModelError, Params, RotorProblem,
+    NY,
 };
 use nalgebra::SVector;
 use std::f64::consts::PI;
@@ -217,17 +218,18 @@ impl PeriodicSystem {
     /// Forward-difference steps of a monodromy matrix whose period maps are integrated at
     /// `rtol`: `rel` times [`PeriodicSystem::scales`], but never below
     /// [`FD_NOISE_FACTOR`] times the absolute error RADAU5 allows per step (`rtol` times the
-    /// FMU's scale of the component, `rotor::SCALES`). Why the floor: with little load the
+    /// FMU's scale of the component, `GearedRotor::scales`). Why the floor: with little load the
     /// deflection scale is small (none at all without damper and load torque: the 1 nm
     /// floor), and a difference step of 1e-13 m sits in the integration noise, which made
     /// stable orbits look unstable (d_phi = 0, T_load = 100 N m: |mu| = 4.45 before).
     pub fn fd_steps(&self, rel: f64, rtol: f64) -> Reduced {
         let s = self.scales();
         Reduced::from_fn(|i, _| {
+            let scale = self.model().scales();
             let noise = if i < 6 {
-                SCALES[idx::Q + i]
+                scale[idx::Q + i]
             } else {
-                SCALES[idx::V + i - 6]
+                scale[idx::V + i - 6]
             } * rtol;
             (rel * s[i]).max(FD_NOISE_FACTOR * noise)
         })
@@ -259,20 +261,15 @@ impl PeriodicSystem {
     }
 
     /// RADAU5 options for the period integrations: scalar rtol, atol = rtol times the
-    /// physical scales of the FMU (`rotor::SCALES`), index counts, quadratures and
-    /// second-order structure of the rotor DAE.
-    fn options(rtol: f64, periods: usize) -> Options<NY> {
+    /// physical scales of the FMU (`GearedRotor::scales`), the DAE's structure
+    /// (`rotor::dae_structure`, as the FMU's stepper) and the step budget.
+    fn options(&self, rtol: f64, periods: usize) -> Options<NY> {
+        let scales = self.model().scales();
         Options {
             rtol: Tolerance::Scalar(rtol),
-            atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| rtol * SCALES[i])),
-            n1: crate::rotor::N_INDEX1,
-            n2: crate::rotor::N_INDEX2,
+            atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| rtol * scales[i])),
             max_steps: MAX_STEPS_PER_PERIOD * periods.max(1) as u64,
-            // The structure the FMU's stepper uses too (`sim::SolverSettings::options`):
-            // energies as quadratures, u' = v eliminated (12 x 12 instead of 22 x 22 LUs).
-            quadrature: std::array::from_fn(|i| (idx::E_IN..=idx::E_LOAD).contains(&i)),
-            second_order: Some((6, idx::V)),
-            ..Options::default()
+            ..dae_structure()
         }
     }
 
@@ -291,7 +288,8 @@ impl PeriodicSystem {
         samples: Option<(usize, &mut Vec<OrbitPoint>)>,
     ) -> Result<(Reduced, Statistics), PeriodicError> {
         let y0 = self.lift(z)?;
-        let mut solver = Radau5::new(&mut self.problem, Self::options(rtol, periods), 0.0, y0)?;
+        let options = self.options(rtol, periods);
+        let mut solver = Radau5::new(&mut self.problem, options, 0.0, y0)?;
         let t_end = periods as f64 * self.period;
         let t_last = t_end - self.period;
         match samples {

@@ -10,6 +10,7 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::PI;
 
 mod friction;
+mod hidden;
 mod memo;
 mod stick;
 
@@ -56,6 +57,8 @@ pub struct GearedRotor {
     /// The sense (+1, -1) in which a line just released from sticking slides, 0 if none
     /// (`PitchLine::Released`).
     released: f64,
+    /// Physical scale of each state component (`rotor::error_scales`).
+    scales: [f64; NY],
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -132,6 +135,7 @@ impl GearedRotor {
             memo: memo::KinematicMemo::default(),
             stick: false,
             released: 0.0,
+            scales: super::DEFAULT_PAIR_SCALES,
         })
     }
 
@@ -143,6 +147,19 @@ impl GearedRotor {
     /// The pair geometry (§2).
     pub fn geometry(&self) -> &PairGeometry {
         &self.geom
+    }
+
+    /// The physical scale of each state component, from which the absolute tolerances
+    /// follow (`atol_i = rtol scale_i`; `rotor::error_scales`).
+    pub fn scales(&self) -> &[f64; NY] {
+        &self.scales
+    }
+
+    /// The coefficient of friction where the parameter `mu` is it (laws 1 and 2); None for
+    /// the laws whose coefficient follows from the load, speed and oil (3 and 4), which
+    /// ignore `mu`.
+    pub fn coulomb_mu(&self) -> Option<f64> {
+        (!self.params.friction_law.load_dependent()).then_some(self.params.mu)
     }
 
     /// Changes mu (tunable). The lambda held in a state is then no longer consistent:
@@ -166,6 +183,12 @@ impl GearedRotor {
         self.params.d_phi = d;
         self.damp[6] = d;
         Ok(())
+    }
+
+    /// Fixes the error scales (`rotor::error_scales`) for a start at t0 with the inputs
+    /// held now; the initialisation does this (`GearedRotor::initialize_with`).
+    pub fn set_scales_for_start(&mut self, t0: f64) {
+        self.scales = super::error_scales(self, t0);
     }
 
     /// Sets the held inputs.
@@ -250,9 +273,7 @@ impl GearedRotor {
         let omega1_dot = y[idx::OMEGA1_DOT];
         let omega2 = y[v + 6];
         let t_load = self.inputs.t_load_at(t);
-        let qf = [
-            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
-        ];
+        let qf = fr.generalised();
         let mut p_damp = 0.0;
         let mut gv = 0.0;
         for i in 0..6 {
@@ -409,9 +430,7 @@ impl GearedRotor {
             jac[(idx::E_LOSS, lam_i)] = sgn * pu * sums.w;
         }
         // Friction derivatives by one-sided differences of the friction evaluation only.
-        let base = [
-            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
-        ];
+        let base = fr.generalised();
         let cols: [usize; 15] = [
             0,
             1,
@@ -447,9 +466,7 @@ impl GearedRotor {
             let mp = if j < 6 { self.mesh_for_f(t, &yp)? } else { m };
             let (sp, mup) = self.friction(t, &yp, &mp, lam, Asker::Integrator)?;
             let frp = sp.resultants(mup, lam);
-            let pert = [
-                frp.f1.x, frp.f1.y, frp.f1.z, frp.f2.x, frp.f2.y, frp.f2.z, -frp.m2.z,
-            ];
+            let pert = frp.generalised();
             for i in 0..7 {
                 jac[(v + i, j)] += (pert[i] - base[i]) / h;
             }
@@ -514,27 +531,14 @@ impl GearedRotor {
         m: &Mesh,
         sums: &FrictionSums,
     ) -> Result<f64, ModelError> {
-        let g = &self.geom;
-        let m = *m;
-        let grow = g.constraint_row(&m);
-        let kin = kinematics(y);
         let pu = self.params.mu / sums.contact.length;
         let gu = sums.generalised_unit();
-        let v = idx::V;
-        let t_load = self.inputs.t_load_at(t);
-        // A stuck line's force eliminated first (model.md (4.14)).
-        let (gp, r_stick) = self.projected_row(y, &m, &grow, sums.stuck.as_ref());
-        let (mut a, mut b, mut r) = (0.0, 0.0, r_stick);
+        let hidden::HiddenConstraint { gp, a, r } =
+            self.hidden_constraint(t, y, m, sums.stuck.as_ref());
+        let mut b = 0.0;
         for i in 0..7 {
-            let mut force = -self.damp[i] * y[v + i] - self.stiff[i] * y[i];
-            if i == 6 {
-                force -= t_load;
-            }
-            a += gp[i] * grow[i] / self.mass[i];
             b += gp[i] * pu * gu[i] / self.mass[i];
-            r -= gp[i] * force / self.mass[i];
         }
-        r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(&m, &kin);
         let lp = r / (a + b);
         let ln = r / (a - b);
         let pos_ok = a + b > 0.0 && lp >= 0.0;
@@ -590,6 +594,7 @@ impl GearedRotor {
         let m = self.mesh(t0, &displaced(&ic.u))?;
         self.g0 = -self.geom.gap_raw(&m, 0.0);
         self.phi1_0 = ic.phi1;
+        self.set_scales_for_start(t0);
         self.consistent_state(t0, ic)
     }
 
@@ -656,6 +661,21 @@ impl GearedRotor {
         let g = &self.geom;
         let omega2 = self.inputs.omega1_at(t) * g.rb1 / g.rb2;
         (self.params.d_phi * omega2 + self.inputs.t_load_at(t)) / (g.rb2 * g.cos_beta_b)
+    }
+
+    /// Friction law 3 outside the operating range Schlenk's formula was fitted in, at the
+    /// inputs of t (pitch-line speed `omega1 r_w1`, load per face width `F_bt/b` from the
+    /// nominal normal force, [`GearedRotor::nominal_lambda`]): one phrase per violated
+    /// bound (docs/friction.md, law 3), empty inside or for the other laws.
+    pub fn law3_outside_fitted_range(&self, t: f64) -> Vec<String> {
+        if self.params.friction_law != FrictionLaw::IsoMean {
+            return Vec::new();
+        }
+        let g = &self.geom;
+        let v_t = (self.inputs.omega1_at(t) * g.rb1 / g.alpha_wt.cos()).abs();
+        // F_bt = lambda cos(beta_b) (transverse, in the plane of action), per mm of face.
+        let load = self.nominal_lambda(t) * g.cos_beta_b / (self.params.gear.b * 1e3);
+        crate::gear::friction::iso_mean::outside_fitted_range(v_t, load)
     }
 
     /// Frictionless static equilibrium for the inputs at t (`model.md` §7, §9.5): constant
@@ -802,6 +822,8 @@ impl GearedRotor {
         o.e_kin = e_kin;
         o.e_pot = e_pot;
         o.p_damp = p_damp;
+        o.t_damp = self.params.d_phi * omega2;
+        o.p_damp_phi = o.t_damp * omega2;
         for i in 0..3 {
             o.u1[i] = y[i];
             o.u2[i] = y[3 + i];

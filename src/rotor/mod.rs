@@ -9,11 +9,13 @@ mod dae;
 pub mod param_table;
 pub(crate) mod params;
 mod problem;
+mod scales;
 
 pub use crate::gear::FrictionLaw;
 pub use dae::{GearedRotor, InitialConditions, RELEASE_BAND, STICK_RELAXATION};
 pub use params::{Inputs, Params, RotorData};
-pub use problem::{RotorProblem, SCALES};
+pub use problem::{dae_structure, RotorProblem};
+pub use scales::{error_scales, DEFAULT_PAIR_SCALES, SCALES};
 
 use crate::fmt_num::Short;
 use std::fmt;
@@ -173,6 +175,10 @@ pub struct Outputs {
     pub mu_mz: f64,
     /// Damper power d_phi omega2^2 + u'^T D u'.
     pub p_damp: f64,
+    /// Torque of the rotational damper on gear 2, d_phi omega2 (a load beside T_load).
+    pub t_damp: f64,
+    /// Its power, d_phi omega2^2 (the part of `p_damp` that is the load damper).
+    pub p_damp_phi: f64,
     /// Energy states.
     pub e_in: f64,
     /// Cumulative friction loss.

@@ -14,19 +14,21 @@ const FRICTION_LAWS: &str = "1 Coulomb, 2 regularised, 3 ISO/TR 14179-2, 4 local
 
 /// The rotor parameters (`model.md` §5, §8, §10), one row each (name, unit, default,
 /// declared min, max, the model's rule, the field): masses, inertias, bearings, the
-/// damper, friction coefficient and law, initial mesh phase, the drive filter.
+/// damper, friction coefficient and law, initial mesh phase, the drive filter. A mass or
+/// inertia of 0 stands for the solid steel gear body of the geometry
+/// ([`Params::with_solid_bodies`](super::Params::with_solid_bodies)).
 #[rustfmt::skip]
 pub static ROTOR_PARAMETERS: [Parameter<Params>; 21] = [
-    real("m1", "kg", 2.0, Some(1e-300), None, Rule::Positive, |p| p.rotor1.m, |p, x| p.rotor1.m = x),
-    real("J1", "kg.m2", 1.0e-3, Some(1e-300), None, Rule::Positive, |p| p.rotor1.j, |p, x| p.rotor1.j = x),
+    real("m1", "kg", 2.0, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.m, |p, x| p.rotor1.m = x),
+    real("J1", "kg.m2", 1.0e-3, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.j, |p, x| p.rotor1.j = x),
     real("k1.x", "N/m", 2e8, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.k[0], |p, x| p.rotor1.k[0] = x),
     real("k1.y", "N/m", 2e8, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.k[1], |p, x| p.rotor1.k[1] = x),
     real("k1.z", "N/m", 1e8, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.k[2], |p, x| p.rotor1.k[2] = x),
     real("d1.x", "N.s/m", 1200.0, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.d[0], |p, x| p.rotor1.d[0] = x),
     real("d1.y", "N.s/m", 1200.0, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.d[1], |p, x| p.rotor1.d[1] = x),
     real("d1.z", "N.s/m", 850.0, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.d[2], |p, x| p.rotor1.d[2] = x),
-    real("m2", "kg", 4.0, Some(1e-300), None, Rule::Positive, |p| p.rotor2.m, |p, x| p.rotor2.m = x),
-    real("J2", "kg.m2", 5.0e-3, Some(1e-300), None, Rule::Positive, |p| p.rotor2.j, |p, x| p.rotor2.j = x),
+    real("m2", "kg", 4.0, Some(0.0), None, Rule::NonNegative, |p| p.rotor2.m, |p, x| p.rotor2.m = x),
+    real("J2", "kg.m2", 5.0e-3, Some(0.0), None, Rule::NonNegative, |p| p.rotor2.j, |p, x| p.rotor2.j = x),
     real("k2.x", "N/m", 2e8, Some(0.0), None, Rule::NonNegative, |p| p.rotor2.k[0], |p, x| p.rotor2.k[0] = x),
     real("k2.y", "N/m", 2e8, Some(0.0), None, Rule::NonNegative, |p| p.rotor2.k[1], |p, x| p.rotor2.k[1] = x),
     real("k2.z", "N/m", 1e8, Some(0.0), None, Rule::NonNegative, |p| p.rotor2.k[2], |p, x| p.rotor2.k[2] = x),

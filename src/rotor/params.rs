@@ -83,8 +83,118 @@ impl Params {
         for p in &ROTOR_PARAMETERS {
             p.check(self)?;
         }
+        // 0 means "the solid body of the geometry"; a path that builds a model must
+        // resolve it first (`with_solid_bodies`), the FMU does.
+        for (name, x) in [
+            ("m1", self.rotor1.m),
+            ("J1", self.rotor1.j),
+            ("m2", self.rotor2.m),
+            ("J2", self.rotor2.j),
+        ] {
+            if !(x > 0.0) {
+                return Err(ParamError {
+                    name,
+                    value: x,
+                    requirement: format!(
+                        "{name} > 0 here (0 = the solid steel body from the geometry is \
+                         resolved by the FMU; give a positive value)"
+                    ),
+                });
+            }
+        }
         self.friction.validate()?;
         Ok(g)
+    }
+
+    /// The masses and inertias with every 0 replaced by the solid steel body of the
+    /// geometry (`SolidBodies`); a pair whose geometry is invalid is returned unchanged
+    /// (`validate` then names the rule).
+    pub fn with_solid_bodies(mut self) -> Self {
+        if let Ok(g) = PairGeometry::new(&self.gear) {
+            let s = SolidBodies::of(&g);
+            for (x, solid) in [
+                (&mut self.rotor1.m, s.m[0]),
+                (&mut self.rotor1.j, s.j[0]),
+                (&mut self.rotor2.m, s.m[1]),
+                (&mut self.rotor2.j, s.j[1]),
+            ] {
+                if *x == 0.0 {
+                    *x = solid;
+                }
+            }
+        }
+        self
+    }
+
+    /// Warnings for masses or inertias that do not fit the geometry: outside
+    /// `PLAUSIBLE_SOLID_RATIO` times the solid steel body (`SolidBodies`). One
+    /// message per value, naming it, the solid body's value and the rule.
+    pub fn implausible_bodies(&self, g: &PairGeometry) -> Vec<String> {
+        let s = SolidBodies::of(g);
+        let (lo, hi) = PLAUSIBLE_SOLID_RATIO;
+        let mut out = Vec::new();
+        for (name, unit, x, solid) in [
+            ("m1", "kg", self.rotor1.m, s.m[0]),
+            ("J1", "kg m^2", self.rotor1.j, s.j[0]),
+            ("m2", "kg", self.rotor2.m, s.m[1]),
+            ("J2", "kg m^2", self.rotor2.j, s.j[1]),
+        ] {
+            let ratio = x / solid;
+            if !(lo..=hi).contains(&ratio) {
+                let ratio = if (1e-3..1e4).contains(&ratio) {
+                    format!("{ratio:.3}")
+                } else {
+                    format!("{ratio:.3e}")
+                };
+                out.push(format!(
+                    "{name} = {x:.4e} {unit} is {ratio} times the solid steel gear body of \
+                     this geometry ({name}_solid = {solid:.4e} {unit}); plausible is {lo} to \
+                     {hi} times (a thin rim keeps at least ~0.34 of the solid inertia, a shaft \
+                     and hub rarely add more than ten times the gear); check the value and its \
+                     unit, or set {name} = 0 to use the solid body"
+                ));
+            }
+        }
+        out
+    }
+}
+
+/// Density of steel used for the solid gear bodies, kg/m^3.
+pub const STEEL_DENSITY: f64 = 7850.0;
+
+/// The range of (given value) / (solid body's value) of a mass or inertia that passes
+/// without a warning. Lower end: a gear with a web keeps at least its rim; a rim from
+/// 0.9 r to r already has 1 - 0.9^4 = 0.34 of the solid inertia. Upper end: a gear on a
+/// shaft with a hub or a coupling rarely carries more than ten times its own body.
+pub const PLAUSIBLE_SOLID_RATIO: (f64, f64) = (0.3, 10.0);
+
+/// The solid steel gear bodies of a pair (`model.md` §5): each gear a solid cylinder of
+/// its reference diameter `d_j = 2 r_j = z_j m_n / cos beta` and the face width `b`, of
+/// steel ([`STEEL_DENSITY`]):
+///
+/// `m_j = rho pi r_j^2 b` [kg],  `J_j = m_j r_j^2 / 2` [kg m^2]
+/// (the polar moment of inertia of a solid cylinder about its axis).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolidBodies {
+    /// Masses of gear 1, 2, kg.
+    pub m: [f64; 2],
+    /// Polar moments of inertia of gear 1, 2, kg m^2.
+    pub j: [f64; 2],
+}
+
+impl SolidBodies {
+    /// From the pair geometry (reference radii r1, r2 and the face width b, in m).
+    pub fn of(g: &PairGeometry) -> Self {
+        let body = |r: f64| {
+            let m = STEEL_DENSITY * std::f64::consts::PI * r * r * g.data.b;
+            (m, 0.5 * m * r * r)
+        };
+        let (m1, j1) = body(g.r1);
+        let (m2, j2) = body(g.r2);
+        SolidBodies {
+            m: [m1, m2],
+            j: [j1, j2],
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 //! `examples/closed_loop_bench.rs`, default pair, omega1 = 314.159 (1 + 0.01 sin(2 pi 50 t))
 //! held and new at every point, 1 s, work per doStep of H = 1e-4 s):
 //!
-//! - the interval is cut into equal internal steps ([`Simulation::equal_stop`]) instead of
+//! - the interval is cut into equal internal steps ([`Simulation::closed_loop_stop`]) instead of
 //!   natural steps and a short clipped one: the LU pair is reused between equal steps and
 //!   from one doStep to the next (clipped steps of equal length, radau5 `step`), and no
 //!   sliver step follows a long one;
@@ -14,14 +14,14 @@
 //! | per doStep | before | events | equal steps | both |
 //! |---|---|---|---|---|
 //! | f evaluations | 28.3 | 20.8 | 25.6 | 20.4 |
+//! | rejections | 1.49 | 0.43 | 0.85 | 0.011 |
+//! | Jacobians | 1.17 | 0.46 | 0.64 | 0.16 |
+//! | LU pairs | 5.04 | 3.68 | 2.73 | 1.94 |
 //!
 //! The parts are those of the interval up to the next mesh event (or the point), so that
 //! no sliver step is left before an event: f per doStep 20.41 -> 20.14 (with input
 //! derivatives 16.10 -> 15.05) against cutting [t, t_end] and stopping at events in
 //! between.
-//! | rejections | 1.49 | 0.43 | 0.85 | 0.011 |
-//! | Jacobians | 1.17 | 0.46 | 0.64 | 0.16 |
-//! | LU pairs | 5.04 | 3.68 | 2.73 | 1.94 |
 //!
 //! Not kept: parts up to 1.1, 1.2, 1.3, 1.5 times the proposal (fewer, longer steps):
 //! rejections 0.011 -> 0.28-0.35 and LU pairs 1.94 -> 2.6-3.2 per doStep, f 20.4 -> 20.9-21.2.

@@ -103,7 +103,7 @@ impl Simulation {
         };
         let mut solver = Radau5::new(
             &mut problem,
-            s.settings.options(),
+            s.settings.options(s.model.scales()),
             s.init.t_start,
             s.init.y0,
         )

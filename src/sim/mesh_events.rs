@@ -8,9 +8,6 @@ use crate::radau5::{self, Problem, RhsError};
 use crate::rotor::{idx, RotorProblem, NY};
 use nalgebra::{SMatrix, SVector};
 
-/// Stop RADAU5 steps at predicted mesh events (see `Simulation::next_mesh_event`).
-pub(super) const MESH_EVENT_STOPS: bool = true;
-
 /// The kind of mesh event ([`Simulation::event_phases`]) where the sliding on a line
 /// reverses (the pitch line).
 pub(super) const REVERSAL: usize = 1;
@@ -40,8 +37,9 @@ pub(super) const JUMP_MARGIN: f64 = 1e-7;
 /// rejections); flat between 0.5 and 0.8; errors against rtol/1000 runs unchanged in size.
 pub(super) const MESH_EVENT_RESUME: f64 = 0.8;
 
-/// Mesh-event stops only above this friction coefficient. Measured CPU per 10 ms (default
-/// case, one doStep) without / with stops: mu = 0.001: 1.6 / 2.3 ms; 0.003: 2.3 / 2.5;
+/// Mesh-event stops only above this friction coefficient (laws 1 and 2, whose coefficient
+/// is the parameter mu; laws 3 and 4 ignore mu and always use them). Measured CPU per 10 ms
+/// (default case, one doStep) without / with stops: mu = 0.001: 1.6 / 2.3 ms; 0.003: 2.3 / 2.5;
 /// 0.01: 3.5 / 3.1; 0.02: 4.3 / 3.4; 0.05: 5.5 / 3.5; 0.1: 6.4 / 4.2.
 pub(super) const MESH_EVENT_MIN_MU: f64 = 0.005;
 
@@ -88,7 +86,8 @@ impl Simulation {
     /// sigma_C, jumps located on the collocation polynomial ([`Simulation::locate_event`])
     /// and landed on from before, [`JUMP_MERGE`] instead (docs/fmu.md "Mesh events").
     /// Measured (default case, rtol 1e-6, 10 ms in one doStep): 291 accepted + 120 rejected
-    /// steps, 87 Jacobians, 5.5 ms CPU without; 273 + 16, 30 Jacobians, 3.7 ms with.
+    /// steps, 87 Jacobians, 5.5 ms CPU without (when the stops were introduced); with them
+    /// as the code stands 317 + 16, 26 Jacobians, 2.4 ms (docs/fmu.md "Mesh events").
     pub(super) fn next_mesh_event(&self, t_end: f64) -> f64 {
         let t = self.solver.t();
         let jumps = self.events_jump();
@@ -135,8 +134,9 @@ impl Simulation {
         // Without friction f has no kinks there (the normal force does not depend on the
         // contact lines); with little friction the kinks are mild and the stops cost more
         // steps than they save (see MESH_EVENT_MIN_MU).
-        let usable =
-            y[idx::OMEGA1] > 0.0 && m.z_hi > m.z_lo && model.params().mu > MESH_EVENT_MIN_MU;
+        let usable = y[idx::OMEGA1] > 0.0
+            && m.z_hi > m.z_lo
+            && model.coulomb_mu().is_none_or(|mu| mu > MESH_EVENT_MIN_MU);
         if !usable {
             return None;
         }

@@ -20,7 +20,7 @@
 //!
 //! Accuracy against the adaptive mode: docs/fmu.md "Real-time mode".
 
-use super::{idx, solver_err, SimError, Simulation, StepReport, NY};
+use super::{solver_err, SimError, Simulation, StepReport, NY};
 use crate::parameter::ParamError;
 use nalgebra::SVector;
 
@@ -94,8 +94,7 @@ impl Simulation {
     pub fn set_h_fixed(&mut self, h_fixed: f64) -> Result<(), SimError> {
         check_h_fixed(h_fixed)?;
         let model = &self.problem.model;
-        let p = model.params();
-        let friction = p.friction_law.load_dependent() || p.mu > 0.0;
+        let friction = model.coulomb_mu().is_none_or(|mu| mu > 0.0);
         if h_fixed > 0.0 && model.geometry().tan_beta_b == 0.0 && friction {
             return Err(ParamError {
                 name: "h_fixed",
@@ -129,14 +128,10 @@ impl Simulation {
         let renew_now = self.restart_pending;
         if self.change_pending() {
             // Only after a switch from the adaptive mode can the stepper be ahead.
-            if let Err(e) = self.sync() {
-                return fail(self, e);
-            }
-            let mut y = *self.solver.y();
-            match self.problem.model.consistent_lambda(t, &y) {
-                Ok(l) => y[idx::LAMBDA] = l,
-                Err(e) => return fail(self, SimError::Model(e)),
-            }
+            let y = match self.restart_state(t) {
+                Ok(y) => y,
+                Err(e) => return fail(self, e),
+            };
             if let Err(e) = self.solver.fixed_set_point(y) {
                 return fail(self, solver_err(e, t));
             }

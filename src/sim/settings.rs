@@ -4,10 +4,10 @@
 use super::mesh_events::MESH_EVENT_RESUME;
 use crate::parameter::ParamError;
 use crate::radau5::{Options, Tolerance};
-use crate::rotor::{idx, NY, SCALES};
+use crate::rotor::{dae_structure, idx, NY};
 use nalgebra::SVector;
 
-/// Factor on rtol for phi1 (see [`SCALES`]): with 1e-3 the relative part stays below the
+/// Factor on rtol for phi1 (see `rotor::DEFAULT_PAIR_SCALES`): with 1e-3 the relative part stays below the
 /// absolute one for |phi1| < 250 rad (0.8 s at the default speed) and grows slowly after.
 pub const PHI1_RTOL_FACTOR: f64 = 1e-3;
 
@@ -58,9 +58,10 @@ impl SolverSettings {
         Ok(())
     }
 
-    /// The RADAU5 options the simulation runs with (tolerances from [`SCALES`], index
-    /// counts, the quadrature and second-order structure of the rotor DAE).
-    pub fn options(&self) -> Options<NY> {
+    /// The RADAU5 options the simulation runs with: tolerances from the physical scales of
+    /// the state components (`scales`: `GearedRotor::scales`), the DAE's structure
+    /// (`rotor::dae_structure`), h_max, the step budget and the resumption after a stop.
+    pub fn options(&self, scales: &[f64; NY]) -> Options<NY> {
         Options::<NY> {
             rtol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| {
                 if i == idx::PHI1 {
@@ -70,22 +71,13 @@ impl SolverSettings {
                 }
             })),
             atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| {
-                self.rtol * SCALES[i]
+                self.rtol * scales[i]
             })),
             h_max: self.h_max,
             max_steps: MAX_STEPS_PER_INTERVAL,
-            n1: crate::rotor::N_INDEX1,
-            n2: crate::rotor::N_INDEX2,
-            n3: 0,
-            // E_IN..E_LOAD enter no right-hand side (zero Jacobian columns, identity rows
-            // of M_ext): factorise 18 x 18 instead of 22 x 22 (radau5 `Options::quadrature`).
-            quadrature: std::array::from_fn(|i| (idx::E_IN..=idx::E_LOAD).contains(&i)),
-            // u_i' = v_i (i < 6, v = y[7..]): eliminated from the linear systems, which
-            // leaves 12 x 12 LUs (radau5 `Options::second_order`, Fortran IWORK(9..10)).
-            second_order: Some((6, idx::V)),
             // Clipped steps end on mesh events (kinks of f) here, not on smooth points.
             resume_after_stop: MESH_EVENT_RESUME,
-            ..Options::default()
+            ..dae_structure()
         }
     }
 }

@@ -3,7 +3,6 @@
 //! across points while the input function stays the same, and reports what happened.
 
 use super::error::{solver_err, SimError};
-use super::mesh_events::MESH_EVENT_STOPS;
 use super::stick::{StickChange, MAX_STICK_REPORTED};
 use super::validity::{self, Violation};
 use super::{closed_loop, validate, Simulation};
@@ -11,11 +10,6 @@ use crate::radau5;
 use crate::radau5::Statistics;
 use crate::rotor::{idx, NY};
 use nalgebra::SVector;
-
-/// Step across communication points while the input function is unchanged (see the module
-/// docs). Measured (default case, rtol 1e-6, steady state, H = 1e-5 s): without 5.1 ms CPU
-/// and ~1020 internal steps per simulated 10 ms; with: see docs/development.md "Benchmarks".
-pub(super) const LOOKAHEAD: bool = true;
 
 /// Stop time given to the stepper in look-ahead mode: far enough never to be reached,
 /// finite so that `t_stop - t` stays finite.
@@ -91,22 +85,13 @@ impl Simulation {
         // values that continue the same ramp) costs nothing.
         let change = self.change_pending();
         if change {
-            // A look-ahead step is retaken to end on t with the old function (`sync`; a
-            // no-op when a tunable setter already did it).
-            if let Err(e) = self.sync() {
-                self.last_successful_time = t;
-                return Err(e);
-            }
-            // lambda is algebraic: a new d_phi, mu or T_load moves it at once, so go on
-            // from its consistent value (hidden constraint, model.md §7), not the stale one.
-            let mut y = *self.solver.y();
-            match self.problem.model.consistent_lambda(t, &y) {
-                Ok(l) => y[idx::LAMBDA] = l,
+            let y = match self.restart_state(t) {
+                Ok(y) => y,
                 Err(e) => {
                     self.last_successful_time = t;
-                    return Err(SimError::Model(e));
+                    return Err(e);
                 }
-            }
+            };
             // Inputs enter f additively (the filter's reference, the load torque; J sees
             // T_load only in the E_load quadrature row, T_load omega2, which the simplified
             // Newton iteration absorbs), so J and the LU pair stay usable: only f is
@@ -130,7 +115,7 @@ impl Simulation {
         self.der_set = [false; 2];
         // Look ahead unless the inputs changed here: a master that changes them at every
         // point would pay for a retake at every point.
-        let lookahead = LOOKAHEAD && !report.restarted;
+        let lookahead = !report.restarted;
         // Mesh-event stops pay when the steps are not already ended by communication points
         // closer than the mean spacing of the events (6 per base pitch): there, extra stops
         // would only force new LU decompositions (measured at H = 1e-5 s without look-ahead:
@@ -138,9 +123,8 @@ impl Simulation {
         // half the spacing up (H = 1e-4 s: see `closed_loop`).
         let rate = self.problem.model.geometry().rb1 * self.solver.y()[idx::OMEGA1];
         let spacing = self.problem.model.geometry().p_bt / (6.0 * rate);
-        let use_events = MESH_EVENT_STOPS
-            && rate > 0.0
-            && (lookahead || t_end - t > closed_loop::EVENT_STOPS_MIN_SPAN * spacing);
+        let use_events =
+            rate > 0.0 && (lookahead || t_end - t > closed_loop::EVENT_STOPS_MIN_SPAN * spacing);
         let horizon = if lookahead { NO_STOP } else { t_end };
         // Validity (validity.rs): conditions of the start state, then the end of a
         // look-ahead step of the last interval before the next step replaces its polynomial.

@@ -2,7 +2,7 @@
 //! bounded work per doStep, progress of every internal step, and the checks a restored
 //! [`SimState`] passes before it is trusted.
 
-use super::{idx, DecodeError, SimError, SimState, Simulation, NY, SCALES};
+use super::{idx, DecodeError, SimError, SimState, Simulation, NY};
 use crate::fmt_num::Short;
 use nalgebra::SVector;
 
@@ -27,7 +27,7 @@ pub(super) fn advanced(t_before: f64, tn: f64, t_end: f64) -> bool {
 
 /// The velocity-level contact constraint (model.md §3.3, `f[LAMBDA] = 0` of the DAE) must
 /// hold at a restored state within this many times `rtol (v_scale + r_b1 |omega1|)`
-/// (v_scale = 1e-2 m/s, [`SCALES`]): RADAU5 solves it at every accepted step to the Newton
+/// (v_scale the velocity scale of `GearedRotor::scales`, 1e-2 m/s for the default pair): RADAU5 solves it at every accepted step to the Newton
 /// tolerance. Measured over 60 communication points each of 5 runs (helical at rtol 1e-3,
 /// 1e-6, 1e-9, frictionless, spur; a load change): at most 1.2e-4 of that scale (spur),
 /// 2.2e-7 (helical), so 10 leaves a margin of ~1e5; a state that violates it is not one of
@@ -93,7 +93,11 @@ impl SimState {
         // before anything reads its history (no retake: the FMU time is the stepper's).
         let restart_due = self.restart_pending && self.t_comm == self.solver.t();
         self.solver
-            .check(&self.settings.options(), Some(&mass), restart_due)
+            .check(
+                &self.settings.options(self.model.scales()),
+                Some(&mass),
+                restart_due,
+            )
             .map_err(|e| refuse(format!("RADAU5 snapshot: {e}")))?;
         super::realtime::check_h_fixed(self.h_fixed)
             .map_err(|e| refuse(format!("real-time mode: {e}")))?;
@@ -121,7 +125,7 @@ impl SimState {
         let g = self.model.geometry();
         let tol = CONSTRAINT_FACTOR
             * self.settings.rtol
-            * (SCALES[idx::V] + g.rb1 * y[idx::OMEGA1].abs());
+            * (self.model.scales()[idx::V] + g.rb1 * y[idx::OMEGA1].abs());
         if residual.is_nan() || residual.abs() > tol {
             return Err(refuse(format!(
                 "the state at t = {} violates the contact constraint: residual {} m/s, tolerance {} m/s",
@@ -217,7 +221,8 @@ mod tests {
                 s.validate().unwrap();
                 let (ts, y) = (s.solver.t(), s.solver.y());
                 let r = s.constraint_residual(ts, y).unwrap();
-                let scale = rtol * (SCALES[idx::V] + s.model.geometry().rb1 * y[idx::OMEGA1].abs());
+                let scale = rtol
+                    * (s.model.scales()[idx::V] + s.model.geometry().rb1 * y[idx::OMEGA1].abs());
                 worst = worst.max(r.abs() / scale);
             }
             eprintln!(

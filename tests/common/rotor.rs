@@ -32,15 +32,15 @@ pub fn driven(p: Params, omega1: f64) -> GearedRotor {
 }
 
 /// Largest deviation of `a` from `b` in units of the physical scales of the simulation
-/// (`sim::SCALES`, the atol of each component divided by rtol; 1e-3 of |b| where that is
+/// (`rotor::SCALES`, the atol of each component divided by rtol; 1e-3 of |b| where that is
 /// larger), lambda excluded (an algebraic component; the outputs re-project it). Returns
 /// the deviation and the component.
 pub fn scaled_dev(
     a: &nalgebra::SVector<f64, { geared_rotor::rotor::NY }>,
     b: &nalgebra::SVector<f64, { geared_rotor::rotor::NY }>,
 ) -> (f64, usize) {
+    use geared_rotor::rotor::SCALES;
     use geared_rotor::rotor::{idx, NY};
-    use geared_rotor::sim::SCALES;
     let mut worst = (0.0, 0);
     for i in 0..NY {
         if i == idx::LAMBDA {

@@ -35,6 +35,10 @@ def main(argv=None) -> int:
     t.add_argument("--y", help="rows of the table (default T_load if varied)")
     t.add_argument("--format", default="{:.6g}", help="Python format of a value (default {:.6g})")
     a = p.parse_args(argv)
+    if a.cmd == "sweep" and a.workers is not None and a.workers < 1:
+        p.error(f"--workers {a.workers}: give at least 1 worker process")
+    if a.cmd == "sweep" and a.max_points is not None and a.max_points < 0:
+        p.error(f"--max-points {a.max_points}: give a number >= 0")
     from . import plot, sweep
 
     try:
@@ -66,6 +70,10 @@ def main(argv=None) -> int:
     except StudyError as e:
         print(f"gearstudy: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("gearstudy: interrupted; a rerun continues with the points not yet written",
+              file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

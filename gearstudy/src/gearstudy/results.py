@@ -23,6 +23,13 @@ import pyarrow.parquet as pq
 from .runner import result_columns
 from .units import StudyError
 
+#: how a changed entry of settings.json is named in the refusal of a rerun
+SETTING_NAMES = {
+    "points_sha256": "the points: values of [grid], [list], [lhs] or [fixed]",
+    "fmu_sha256": "the .fmu (rebuilt)",
+    "fmu_guid": "the FMU's model description",
+}
+
 _ARROW = {"float64": pa.float64(), "int64": pa.int64(), "string": pa.string(), "bool": pa.bool_()}
 
 
@@ -38,10 +45,12 @@ class ResultStore:
         if meta.is_file() and any(self.rows_dir.glob("part-*.parquet")):
             old = json.loads(meta.read_text())
             if old != settings:
-                changed = sorted(k for k in settings if old.get(k) != settings.get(k))
+                changed = sorted(k for k in set(settings) | set(old) if old.get(k) != settings.get(k))
+                what = [SETTING_NAMES.get(k, k) for k in changed]
                 raise StudyError(
-                    f"{self.out} holds results made with other settings ({', '.join(changed)} "
-                    f"changed); use another output directory, or --overwrite (overwrite=True) to start over"
+                    f"{self.out} holds results made with other settings ({', '.join(what)} "
+                    f"changed); use another output directory (--out), or --overwrite (overwrite=True) "
+                    f"to delete them and start over"
                 )
         meta.write_text(json.dumps(settings, indent=1, sort_keys=True))
         if study.path is not None:
@@ -86,11 +95,41 @@ class ResultStore:
 
 
 def read_results(out) -> pa.Table:
-    """All rows of a results directory (or of one Parquet file), sorted by point."""
+    """All rows of a results directory (or of one Parquet file), sorted by point.
+
+    Raises StudyError when there is nothing to read (no such directory, no rows yet)."""
     p = Path(out)
+    if not p.exists():
+        raise StudyError(f"results {p} do not exist; give the directory `gearstudy sweep` wrote "
+                         "(its --out, default out/studies/<study name>)")
     src = p / "rows" if (p / "rows").is_dir() else p
-    t = pq.read_table(src)
+    if src.is_dir() and not any(src.glob("part-*.parquet")):
+        raise StudyError(f"{p} holds no results (no rows/part-*.parquet); run `gearstudy sweep` first")
+    try:
+        t = pq.read_table(src)
+    except (pa.ArrowInvalid, OSError) as e:
+        raise StudyError(f"{p}: not a results directory or Parquet file of gearstudy ({e})") from None
+    if "point" not in t.column_names:
+        raise StudyError(f"{p}: not written by gearstudy (no column 'point')")
     return t.sort_by("point")
+
+
+def require_column(table: pa.Table, name: str, what: str = "column") -> None:
+    """StudyError naming the column and the ones that come close, if `name` is not a numeric
+    column of the table."""
+    if name in table.column_names:
+        kind = table.schema.field(name).type
+        if pa.types.is_floating(kind) or pa.types.is_integer(kind):
+            return
+        numeric = [c for c in table.column_names
+                   if pa.types.is_floating(table.schema.field(c).type)]
+        raise StudyError(f"{what} '{name}' holds text, not numbers; give one of: {', '.join(numeric)}")
+    import difflib
+
+    close = difflib.get_close_matches(name, table.column_names, n=4, cutoff=0.5)
+    hint = f"; did you mean {', '.join(close)}?" if close else ""
+    numeric = [c for c in table.column_names if pa.types.is_floating(table.schema.field(c).type)]
+    raise StudyError(f"no {what} '{name}' in these results{hint} (columns: {', '.join(numeric)})")
 
 
 def column_units(table: pa.Table) -> dict:

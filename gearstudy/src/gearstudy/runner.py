@@ -43,6 +43,10 @@ from .units import Catalog
 STATUS = ["OK", "Warning", "Discard", "Error", "Fatal", "Pending"]
 INITIALIZATION = "initialization"  # FMI Enumeration parameter, when the FMU has it
 PERIODIC = 3
+REST = 1
+#: words of the FMU's message when the start on the periodic orbit failed (src/sim/init.rs):
+#: such a point is run again from rest with the cut [window] fallback_transient
+PERIODIC_FAILED = ("no periodic orbit", "periodic orbit is unstable")
 TEETH_DRIVING = "z1"
 SPEED_INPUT = "omega1"
 ENERGY_IN, ENERGY_LOSS = "E_in", "E_loss"
@@ -226,9 +230,28 @@ class PointRunner:
                 values[INITIALIZATION] = PERIODIC
             self._set(values)
             s.enterInitializationMode()
-            s.exitInitializationMode()
-            terminate = True
             periodic = self.has_initialization and int(values.get(INITIALIZATION)) == PERIODIC
+            fallback = None
+            try:
+                s.exitInitializationMode()
+            except FMICallException as e:
+                msg = self._messages(min_status=2) or str(e)
+                if not (periodic and INITIALIZATION not in point
+                        and any(w in msg for w in PERIODIC_FAILED)):
+                    raise
+                # the periodic start failed: from rest, with a transient long enough to
+                # reach the steady state ([window] fallback_transient)
+                fallback = msg
+                self._recycle(False)
+                s = self._ready()
+                self.log.clear()
+                s.setupExperiment(tolerance=settings["tolerance"], startTime=0.0)
+                values[INITIALIZATION] = REST
+                self._set(values)
+                s.enterInitializationMode()
+                s.exitInitializationMode()
+                periodic = False
+            terminate = True
             z1, w1 = self._get([TEETH_DRIVING, SPEED_INPUT])
             if not (w1 != 0.0 and math.isfinite(w1)) or z1 <= 0:
                 raise ValueError(
@@ -238,6 +261,9 @@ class PointRunner:
             if periodic:
                 cut, unit = win["periodic_settle"], win["periodic_settle_unit"]
                 row["init"] = "periodic"
+            elif fallback is not None:
+                cut, unit = win["fallback_transient"], win["fallback_transient_unit"]
+                row["init"] = "rest+cut (periodic start failed)"
             else:
                 cut, unit = win["transient"], win["transient_unit"]
                 row["init"] = "rest+cut"
@@ -245,6 +271,9 @@ class PointRunner:
             row["mesh_period"], row["t_window"] = t_mesh, t0
             row.update(self._window(t0, t_mesh, settings))
             row["status"] = "OK"
+            if fallback is not None:
+                self.log.append((1, "", f"the start on the periodic orbit failed ({fallback}); "
+                                        f"started from rest, window after {t0:g} s"))
         except FMICallException as e:
             row["status"] = STATUS[e.status] if 0 <= e.status < len(STATUS) else str(e.status)
             row["message"] = self._messages(min_status=2) or str(e)

@@ -24,6 +24,8 @@ REPO_FMU = Path("target") / "fmu" / "GearedRotor.fmu"
 
 #: reductions computed for every output named in [outputs] names
 DEFAULT_OUTPUTS = ("T1", "Fn", "TE", "P_in", "P_loss", "omega2")
+#: the damper's load and power, added to the default outputs when the FMU has them
+LOAD_OUTPUTS = ("T_damp", "P_damp_phi")
 #: outputs whose mesh-order amplitudes are computed
 DEFAULT_ORDERS = ("TE", "Fn", "T1")
 
@@ -36,6 +38,8 @@ class Window:
     transient_unit: str = "s"  # "s" or "periods"
     periodic_settle: float = 0.0  # the cut when the FMU starts on its periodic solution
     periodic_settle_unit: str = "periods"
+    fallback_transient: float = 0.1  # the cut of a point whose periodic start failed (from rest)
+    fallback_transient_unit: str = "s"
     periods: int = 10  # whole mesh periods in the window
     samples_per_period: int = 32
     n_orders: int = 3
@@ -76,6 +80,9 @@ class Study:
             "window": self.window.as_dict(),
             "tolerance": self.tolerance,
             "variables": self.variables,
+            # the points themselves: a grid whose values changed is another study (a rerun
+            # into the same directory would mix both grids)
+            "points_sha256": _digest(sorted(point_key(p) for p in self.points)),
         }
 
     def settings_fingerprint(self) -> str:
@@ -93,12 +100,26 @@ def _digest(obj) -> str:
 
 def load_study(path, fmu: Path | str | None = None, catalog: Catalog | None = None) -> Study:
     path = Path(path)
+    if not path.is_file():
+        what = "is a directory, not a study file" if path.is_dir() else "does not exist"
+        raise StudyError(f"study file {path} {what}; give the path of a TOML study file "
+                         "(e.g. examples/studies/efficiency_map.toml; format: docs/studies.md)")
     try:
         with open(path, "rb") as f:
             data = tomllib.load(f)
     except tomllib.TOMLDecodeError as e:
         raise StudyError(f"{path}: not valid TOML: {e}") from None
-    return study_from_dict(data, base=path.parent, path=path, fmu=fmu, catalog=catalog)
+    except (OSError, UnicodeDecodeError) as e:
+        raise StudyError(f"study file {path} cannot be read: {e}") from None
+    try:
+        return study_from_dict(data, base=path.parent, path=path, fmu=fmu, catalog=catalog)
+    except StudyError:
+        raise
+    except (ValueError, TypeError, KeyError, AttributeError) as e:
+        # an entry of the wrong kind (a word where a number belongs, a table where a value
+        # belongs): the file's problem, said with the file's name
+        raise StudyError(f"{path}: an entry has the wrong kind of value ({type(e).__name__}: {e}); "
+                         "see docs/studies.md for the format") from None
 
 
 def study_from_dict(
@@ -115,7 +136,8 @@ def study_from_dict(
     allowed = {
         "study": {"name", "fmu", "description"},
         "outputs": {"names", "orders"},
-        "window": {"transient", "periodic_settle", "periods", "samples_per_period", "n_orders"},
+        "window": {"transient", "periodic_settle", "fallback_transient", "periods", "samples_per_period",
+                   "n_orders"},
         "run": {"chunk_size", "tolerance"},
     }
     for table, keys in allowed.items():
@@ -155,7 +177,7 @@ def study_from_dict(
         points = [dict(fixed)]
 
     out = data.get("outputs", {})
-    outputs = tuple(out.get("names", DEFAULT_OUTPUTS))
+    outputs = tuple(out.get("names", DEFAULT_OUTPUTS + tuple(n for n in LOAD_OUTPUTS if n in cat)))
     orders = tuple(out.get("orders", DEFAULT_ORDERS))
     for n in outputs + orders:
         v = cat.get(n, "[outputs] ")
@@ -168,7 +190,10 @@ def study_from_dict(
     w = data.get("window", {})
     tr, tr_u = parse_duration(w.get("transient", "100 ms"), cat, "[window] transient")
     ps, ps_u = parse_duration(w.get("periodic_settle", "0 periods"), cat, "[window] periodic_settle")
+    fb, fb_u = parse_duration(w.get("fallback_transient", "100 ms"), cat, "[window] fallback_transient")
     window = Window(
+        fallback_transient=fb,
+        fallback_transient_unit=fb_u,
         transient=tr,
         transient_unit=tr_u,
         periodic_settle=ps,

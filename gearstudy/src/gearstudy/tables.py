@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from .plots import PREFERRED_AXES, _combos, _display, _fmt, _label, _select, _varied
-from .results import read_results
+from .results import read_results, require_column
+from .units import StudyError
 
 
 def format_table(results, column: str = "efficiency", x: str | None = None,
@@ -15,10 +16,14 @@ def format_table(results, column: str = "efficiency", x: str | None = None,
     table = read_results(results)
     varied = _varied(table)
     axes = [c for c in PREFERRED_AXES if c in varied] + [c for c in varied if c not in PREFERRED_AXES]
+    require_column(table, column)
+    for c, opt in ((x, "--x"), (y, "--y")):
+        if c is not None:
+            require_column(table, c, f"variable for {opt}")
     x = x or (axes[0] if axes else None)
     y = y or next((c for c in axes if c != x), None)
     if x is None:
-        raise ValueError("nothing varies in these results")
+        raise StudyError("nothing varies in these results: no axis for a table")
     cols = {c: np.asarray(table.column(c).to_pylist(), dtype=float)
             for c in set(varied) | {x, column} | ({y} if y else set())}
     others = [c for c in varied if c not in (x, y)]

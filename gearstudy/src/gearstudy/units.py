@@ -160,7 +160,29 @@ class Catalog:
             return int(number)
         if v.type != "Real":
             raise StudyError(f"{label}: variables of type {v.type} cannot be set by a study")
+        if unit_name is None:
+            _warn_unitless(label, name, number, v.unit or "")
         return number
+
+
+#: SI unit -> (largest plausible magnitude of a value given without a unit, the unit meant more
+#: likely): a bare 3 for m_n is 3 m, a bare 1800 for omega1 is 1800 rad/s
+PLAUSIBLE_WITHOUT_UNIT = {"m": (1.0, "mm"), "rad/s": (1000.0, "rpm"), "rad": (1.5707963267948966, "deg")}
+_warned: set[str] = set()
+
+
+def _warn_unitless(label: str, name: str, number: float, unit: str) -> None:
+    """A warning on stderr (once per entry) for a bare number implausible in the SI unit."""
+    if unit not in PLAUSIBLE_WITHOUT_UNIT or label in _warned:
+        return
+    limit, instead = PLAUSIBLE_WITHOUT_UNIT[unit]
+    if abs(number) >= limit:
+        _warned.add(label)
+        import sys
+
+        print(f"gearstudy: warning: {label} has no unit, so it is {number:g} {unit}, implausible for a "
+              f"gear pair (>= {limit:g} {unit}); if you meant {instead}, write \"{number:g} {instead}\"",
+              file=sys.stderr)
 
 
 def parse_duration(text, time_units: Catalog, what: str) -> tuple[float, str]:

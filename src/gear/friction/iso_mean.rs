@@ -93,3 +93,93 @@ impl IsoMean {
         mu_mz(f, v, self.rho_red_mm, self.eta_mpas, self.ra_um, self.x_l)
     }
 }
+
+/// The gear loss factor of ISO/TR 14179-2 (Ohlendorf's formula, H. Ohlendorf,
+/// dissertation TU Munich 1958, as given by Niemann & Winter, Maschinenelemente vol. II,
+/// and used by ISO/TR 14179-2:2001 in `P_VZP = mu_mz H_V P_in`):
+///
+/// `H_V = pi (u + 1) / (z1 u cos beta_b) (1 - eps_alpha + eps_1^2 + eps_2^2)`  (dimensionless)
+///
+/// with u = z2/z1, eps_1 and eps_2 the approach and recess parts of the transverse contact
+/// ratio (eps_alpha = eps_1 + eps_2). It assumes the load of a spur pair (shared equally in
+/// double contact, whole in single contact); for helical pairs it is the standard's value,
+/// not the model's. The model spreads the load uniformly over the contact lines and has
+/// its own loss factor `H_V` (`PairGeometry::loss_factor`, `model.md` §9.7): equal to this
+/// one for spur pairs with eps_1, eps_2 <= 1, 16-19 % above it for common helical pairs.
+pub fn ohlendorf_h_v(z1: f64, z2: f64, cos_beta_b: f64, eps_1: f64, eps_2: f64) -> f64 {
+    let u = z2 / z1;
+    std::f64::consts::PI * (u + 1.0) / (z1 * u * cos_beta_b)
+        * (1.0 - (eps_1 + eps_2) + eps_1 * eps_1 + eps_2 * eps_2)
+}
+
+/// The operating range of Schlenk's fit as the secondary literature quotes it (the primary
+/// text could not be checked here): pitch-line speed v_t at least 1 m/s and transverse
+/// load per face width F_bt/b at least 150 N/mm (FZG efficiency tests of case-carburised,
+/// ground gears, Schlenk 1994). Below these the formula extrapolates.
+pub const FITTED_V_T_MIN: f64 = 1.0;
+/// See [`FITTED_V_T_MIN`]; N/mm.
+pub const FITTED_LOAD_MIN: f64 = 150.0;
+
+/// Where an operating point (pitch-line speed v_t in m/s, F_bt/b in N/mm) lies outside
+/// Schlenk's fitted range ([`FITTED_V_T_MIN`], [`FITTED_LOAD_MIN`]): one phrase per
+/// violated bound, empty inside.
+pub fn outside_fitted_range(v_t: f64, f_bt_per_b: f64) -> Vec<String> {
+    // fixed decimals for ordinary values, an exponent beyond (no 300-digit numbers)
+    let num = |x: f64, decimals: usize| {
+        if x.abs() < 1e6 {
+            format!("{x:.decimals$}")
+        } else {
+            format!("{x:.3e}")
+        }
+    };
+    let mut out = Vec::new();
+    if !(v_t >= FITTED_V_T_MIN) {
+        out.push(format!(
+            "pitch-line speed v_t = {} m/s < {FITTED_V_T_MIN} m/s",
+            num(v_t, 3)
+        ));
+    }
+    if !(f_bt_per_b >= FITTED_LOAD_MIN) {
+        out.push(format!(
+            "load per face width F_bt/b = {} N/mm < {FITTED_LOAD_MIN} N/mm",
+            num(f_bt_per_b, 1)
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Ohlendorf's H_V of three pairs against a hand calculation (involute geometry by
+    /// hand: eps_1 = (sigma_C - sigma_A)/p_bt, eps_2 = (sigma_E - sigma_C)/p_bt, then the
+    /// formula; docs/friction.md "Two loss factors" lists the steps) and, for the spur FZG
+    /// C40 gear, the 0.1986 its GEARpie report prints.
+    #[test]
+    fn ohlendorf_h_v_matches_hand_values() {
+        // (z1, z2, eps_1, eps_2, cos beta_b, H_V by hand)
+        #[rustfmt::skip]
+        let cases = [
+            // FZG C40, spur, x = 0.1817/0.1715, a_w = 91.5 mm
+            (16.0, 24.0, 0.728_340_3, 0.734_106_1, 1.0, 0.198_622_3),
+            // default pair: 27/41, m_n 2 mm, beta 20 deg
+            (27.0, 41.0, 0.786_182_7, 0.750_023_0, 0.946_945_6, 0.131_325_7),
+            // the user's pair of issue 25: 31/67, m_n 3 mm, beta 15 deg
+            (31.0, 67.0, 0.854_412_4, 0.792_108_6, 0.969_973_6, 0.108_645_0),
+        ];
+        for (z1, z2, e1, e2, cbb, hand) in cases {
+            let h = ohlendorf_h_v(z1, z2, cbb, e1, e2);
+            assert!((h - hand).abs() < 2e-7, "z {z1}/{z2}: {h} vs {hand}");
+        }
+        let c40 = ohlendorf_h_v(16.0, 24.0, 1.0, 0.728_340_3, 0.734_106_1);
+        assert!((c40 - 0.1986).abs() < 0.5e-4);
+    }
+
+    #[test]
+    fn fitted_range() {
+        assert!(outside_fitted_range(5.0, 300.0).is_empty());
+        assert_eq!(outside_fitted_range(0.5, 300.0).len(), 1);
+        assert_eq!(outside_fitted_range(0.5, 100.0).len(), 2);
+    }
+}

@@ -2,6 +2,7 @@
 //! state gets (`docs/friction.md`), the lambda column of the Jacobian for law 4, and the
 //! consistent lambda of the load-dependent laws 3 and 4 by a scalar solve.
 
+use super::hidden::HiddenConstraint;
 use super::{kinematics, GearedRotor};
 use crate::gear::{EhlLine, Friction, FrictionLaw, FrictionSums, LineLaw, Mesh, PitchLine};
 use crate::rotor::{idx, ModelError, NY};
@@ -135,12 +136,8 @@ impl GearedRotor {
         let h = lp - lam;
         let (sp, mup) = self.friction(t, y, m, lp, Asker::Integrator)?;
         let frp = sp.resultants(mup, lp);
-        let base = [
-            fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
-        ];
-        let pert = [
-            frp.f1.x, frp.f1.y, frp.f1.z, frp.f2.x, frp.f2.y, frp.f2.z, -frp.m2.z,
-        ];
+        let base = fr.generalised();
+        let pert = frp.generalised();
         for i in 0..7 {
             jac[(v + i, lam_i)] += (pert[i] - base[i]) / h;
         }
@@ -175,13 +172,6 @@ impl GearedRotor {
         at_y: Option<(FrictionSums, f64)>,
         stick: bool,
     ) -> Result<(f64, (FrictionSums, f64)), ModelError> {
-        let g = &self.geom;
-        let grow = g.constraint_row(m);
-        let kin = kinematics(y);
-        let v = idx::V;
-        let t_load = self.inputs.t_load_at(t);
-        // With a stuck line the stick force is eliminated first (model.md (4.14)): the
-        // constraint row is projected, `G' = G - c w`, and r gains `c x0_free`.
         let stuck = match &at_y {
             _ if !(stick && self.stick_possible()) => None,
             Some((s, _)) => s.stuck,
@@ -191,23 +181,13 @@ impl GearedRotor {
                     .stuck
             }
         };
-        let (gp, r_stick) = self.projected_row(y, m, &grow, stuck.as_ref());
-        let (mut a, mut r) = (0.0, r_stick);
-        for i in 0..7 {
-            let mut force = -self.damp[i] * y[v + i] - self.stiff[i] * y[i];
-            if i == 6 {
-                force -= t_load;
-            }
-            a += gp[i] * grow[i] / self.mass[i];
-            r -= gp[i] * force / self.mass[i];
-        }
-        r += g.rb1 * g.cos_beta_b * y[idx::OMEGA1_DOT] - g.constraint_row_dot_v(m, &kin);
+        let HiddenConstraint { gp, a, r } = self.hidden_constraint(t, y, m, stuck.as_ref());
         // h(lambda), its friction part phi(lambda) = G M^-1 Q_f(lambda), and the friction
         // evaluated for it.
         type Eval = (f64, f64, (FrictionSums, f64));
         let residual = |lam: f64, fr: (FrictionSums, f64)| -> Eval {
             let q = fr.0.resultants(fr.1, lam);
-            let q = [q.f1.x, q.f1.y, q.f1.z, q.f2.x, q.f2.y, q.f2.z, -q.m2.z];
+            let q = q.generalised();
             let mut phi = 0.0;
             for i in 0..7 {
                 phi += gp[i] * q[i] / self.mass[i];
@@ -269,27 +249,5 @@ impl GearedRotor {
             lambda_pos: l1,
             lambda_neg: l0,
         })
-    }
-
-    /// The constraint row for the hidden constraint with the stick force of `stuck`
-    /// eliminated (model.md (4.14)): `G' = G - c w` with `c = (G M^-1 w) / (w^T M^-1 w)`,
-    /// and the term `c x0_free` that r gains; `(G, 0)` without a stuck line.
-    pub(super) fn projected_row(
-        &self,
-        y: &SVector<f64, NY>,
-        m: &Mesh,
-        grow: &[f64; 7],
-        stuck: Option<&crate::gear::StuckLine>,
-    ) -> ([f64; 7], f64) {
-        let Some(st) = stuck else {
-            return (*grow, 0.0);
-        };
-        let row = self.stick_row(y, m, st);
-        let gw: f64 = (0..7).map(|i| grow[i] * row.w[i] / self.mass[i]).sum();
-        let c = gw / row.a_w;
-        (
-            std::array::from_fn(|i| grow[i] - c * row.w[i]),
-            c * row.free,
-        )
     }
 }

@@ -182,7 +182,7 @@ impl GearedRotor {
         if let Some(st) = &sums.stuck {
             let row = self.stick_row(y, m, st);
             let grow = self.geom.constraint_row(m);
-            let rest = generalised(&fr);
+            let rest = fr.generalised();
             let f_w = self.stick_force(t, y, &row, &grow, &rest);
             Self::add_stick(&mut fr, st, f_w);
         }
@@ -220,7 +220,7 @@ impl GearedRotor {
         let st = sums.stuck?;
         let row = self.stick_row(&z, &m, &st);
         let grow = self.geom.constraint_row(&m);
-        let rest = generalised(&sums.resultants(mu, z[idx::LAMBDA]));
+        let rest = sums.resultants(mu, z[idx::LAMBDA]).generalised();
         let f_w = self.stick_force(t, &z, &row, &grow, &rest);
         // A line whose sliding is more than a thousandth of the rolling speed across a base
         // pitch from zero is not the stuck one (the stuck line left the contact).
@@ -252,11 +252,4 @@ impl GearedRotor {
             .ok()?;
         sums.stuck.map(|s| s.x0)
     }
-}
-
-/// `Q_f = (F1, F2, -M2_z)` of a friction evaluation (model.md (4.11)).
-pub(crate) fn generalised(fr: &Friction) -> [f64; 7] {
-    [
-        fr.f1.x, fr.f1.y, fr.f1.z, fr.f2.x, fr.f2.y, fr.f2.z, -fr.m2.z,
-    ]
 }

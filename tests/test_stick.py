@@ -1,0 +1,53 @@
+"""Stick of a spur contact line at the pitch line (model.md §4.1) through FMPy on the
+packaged .fmu: the review's slow spur pair runs to its end, the output `stick` shows the
+phases, logEvents names their located instants, and the energy balance closes.
+
+Before the stick mode this run returned fmi2Discard at t = 0.0668 s after 50 000 internal
+steps (the stepper chattered across the sign of the sliding on the line at the pitch
+point). The physics of the phases is checked in tests/sim_stick.rs (no sliding while
+stuck, force within its bound, the limit of the regularised law).
+"""
+
+from __future__ import annotations
+
+import math
+
+from helpers.fmu_harness import FMI2_OK
+
+ENERGIES = ["E_in", "E_loss", "E_damp", "E_load", "E_kin", "E_pot"]
+
+
+def test_slow_spur_pair_sticks_and_runs_to_its_end(pkg):
+    inst = pkg.instance("stick", logging_on=True)
+    try:
+        inst.slave.setDebugLogging(True, ["logEvents"])
+        inst.initialize({"beta": 0.0, "omega1": 100 * math.pi / 30}, tolerance=1e-9)
+        e0 = inst.get(ENERGIES)
+        h, n = 1e-3, 100
+        stick_seen = 0
+        for _ in range(n):
+            inst.do_step(h)
+            stick_seen += bool(inst.get1("stick"))
+        e = inst.get(ENERGIES)
+        assert abs(inst.time - 0.1) < 1e-12
+        assert all(r.status == FMI2_OK for r in inst.log), [str(r) for r in inst.log if r.status]
+        starts = [r.message for r in inst.log if "sticks at the pitch line" in r.message]
+        ends = [r.message for r in inst.log if "slides again" in r.message]
+        # One stick phase per base pitch passing the pitch point slowly enough: 4 in 0.1 s
+        # at 100 rpm for this pair (tests/sim_stick.rs); each reported with its instant.
+        assert len(starts) == len(ends) >= 3, (starts, ends)
+        t_on = [float(m.split("t = ")[1].split(" s")[0]) for m in starts]
+        t_off = [float(m.split("t = ")[1].split(" s")[0]) for m in ends]
+        assert all(0 < a < b for a, b in zip(t_on, t_off)), (t_on, t_off)
+        residual = (e["E_in"] - e["E_loss"] - e["E_damp"] - e["E_load"]
+                    - (e["E_kin"] + e["E_pot"] - e0["E_kin"] - e0["E_pot"]))
+        assert abs(residual) <= 1e-8 * e["E_in"], residual / e["E_in"]
+        # The phases are ~0.1 ms long: a 1 ms grid rarely lands in one.
+        assert stick_seen <= len(starts)
+    finally:
+        inst.terminate_and_free()
+
+
+def test_stick_output_is_declared(pkg):
+    v = pkg.vars["stick"]
+    assert (v.type, v.causality, v.variability) == ("Boolean", "output", "discrete")
