@@ -245,3 +245,24 @@ fn tip_below_base_circle_names_the_shift() {
     assert!(msg.contains("x1 >="), "{msg}");
     check_limits(&d, &msg, &["x1", "h_aP"]);
 }
+
+/// Absurd tooth counts (a fuzzed state blob: z2 = 1 174 405 161 with m_n = 4.8e279 m) are
+/// refused with advice as fast as ordinary ones: the tooth-count search stays inside its
+/// range (5..=400) instead of trying every count down from the given one (that took 441 s).
+/// The advice then names a value in that range, or none.
+#[test]
+fn an_absurd_tooth_count_is_refused_without_searching_a_billion_counts() {
+    for (z1, z2, m_n) in [(27, 1_174_405_161, 4.8e279), (1_000_000, 41, 0.002)] {
+        let d = GearData {
+            z1,
+            z2,
+            m_n,
+            ..GearData::default()
+        };
+        // Before the fix this call did not return for minutes (the test then hangs).
+        if let Err(e) = PairGeometry::new(&d) {
+            let msg = e.to_string();
+            assert!(!msg.is_empty());
+        }
+    }
+}

@@ -133,7 +133,12 @@ fn limit(d: &GearData, knob: Knob, dir: Dir) -> Option<f64> {
     let end = knob.end(v0, dir);
     let s = if dir == Dir::Up { 1.0 } else { -1.0 };
     if matches!(knob, Knob::Z1 | Knob::Z2) {
-        let (mut z, last) = (v0 as i64, end as i64);
+        // Tooth counts are searched one by one inside the range of `Knob::end` (5..=400):
+        // an absurd start (a fuzzed z2 = 1.2e9) starts at the range's edge, else the
+        // search tried a billion counts (441 s in fmi2ExitInitializationMode).
+        let z_max = knob.end(v0, Dir::Up) + 1.0;
+        let start = if dir == Dir::Down { v0.min(z_max) } else { v0 };
+        let (mut z, last) = (start as i64, end as i64);
         while (z - last) * (s as i64) < 0 {
             z += s as i64;
             if valid(&knob.set(d, z as f64)) {

@@ -18,6 +18,7 @@
 //! The line sticks while `|F_w| <= mu |lambda| L_k / l` (its share of the normal force).
 
 use super::{kinematics, GearedRotor};
+use crate::gear::contact_lines::reduce;
 use crate::gear::{Friction, FrictionLaw, FrictionSums, Mesh, PitchLine, StuckLine};
 use crate::rotor::{idx, NY};
 use nalgebra::SVector;
@@ -232,24 +233,29 @@ impl GearedRotor {
         Some((mu * share - f_w.abs(), f_w))
     }
 
-    /// Sliding speed `x0` (m/s) of the contact line nearest to zero sliding, signed, for a
-    /// pair whose lines can stick ([`GearedRotor::stick_possible`]): its sign changes when
-    /// a line crosses the pitch line. None otherwise.
+    /// Sliding speed `x0` (m/s) of the contact line nearest to the pitch line (where the
+    /// sliding is zero), signed, for a pair whose lines can stick
+    /// ([`GearedRotor::stick_possible`]): its sign changes when a line crosses the pitch
+    /// line. From the mesh and the velocities alone (no friction sums: the simulation asks
+    /// after every step): on a spur pair line k lies at `sigma_k = s + k p_bt` (`s` the mesh
+    /// phase, (3.10)) and slides with `x0 = x_base + (omega1 + omega2) sigma_k` (4.12). None
+    /// otherwise.
     pub fn pitch_line_sliding(&self, t: f64, y: &SVector<f64, NY>) -> Option<f64> {
         if !self.stick_possible() {
             return None;
         }
         let m = self.mesh(t, y).ok()?;
-        let (sums, _) = self
-            .friction_mode(
-                t,
-                y,
-                &m,
-                y[idx::LAMBDA],
-                super::friction::Asker::Point,
-                true,
-            )
-            .ok()?;
-        sums.stuck.map(|s| s.x0)
+        let g = &self.geom;
+        let k = kinematics(y);
+        let dv = k.v2 - k.v1;
+        let x_base = dv.x * m.cos_psi + dv.y * m.sin_psi - k.omega2 * m.len_t1t2;
+        let wsum = k.omega1 + k.omega2;
+        if !(wsum.abs() > 0.0) {
+            return Some(x_base);
+        }
+        let p = g.p_bt;
+        let s = g.mesh_phase(&m, y[idx::PHI1], self.params.psi0);
+        let offset = reduce(s + x_base / wsum + 0.5 * p, p) - 0.5 * p;
+        Some(wsum * offset)
     }
 }
