@@ -28,11 +28,18 @@
 //! `BENCH_H=1e-4` or `1e-5` runs one communication step size only; `BENCH_OUTPUTS=T1`
 //! reads only that output (the others' cost by difference); `BENCH_LAW=4` runs friction law 4; `BENCH_JITTER=1` adds
 //! the machine's jitter floor next to `rt 2.5e-5 omega1`, see [`jitter_floor`]).
+//!
+//! `BENCH_FMI=3` runs the same master through the FMI 3.0 functions (`fmi3SetFloat64`,
+//! `fmi3DoStep`, `fmi3GetFloat64`; the same library, `c_abi3`); `BENCH_FMI=both` runs every
+//! case through both, the runs of the two alternated, and prints both rows and the ratio
+//! of their median CPU times (FMI 3.0 has no input derivatives: `omega1+der` is 2.0 only).
 
 use geared_rotor::c_abi::Instance;
 use geared_rotor::c_abi::*;
+use geared_rotor::c_abi3 as c3;
 use geared_rotor::fmi2::types::*;
 use geared_rotor::fmi2::variables::{Causality, VarType, GUID, VARIABLES};
+use geared_rotor::fmi3::types::Fmi3Status;
 use geared_rotor::radau5::Statistics;
 use std::f64::consts::PI;
 use std::ffi::CString;
@@ -88,12 +95,17 @@ fn t_load(t: f64) -> f64 {
 
 struct Fmu {
     c: Fmi2Component,
+    /// Through the FMI 3.0 functions.
+    v3: bool,
     outs: Vec<u32>,
     vals: Vec<f64>,
 }
 
 impl Fmu {
-    fn new(h_fixed: f64) -> Fmu {
+    fn new(h_fixed: f64, v3: bool) -> Fmu {
+        if v3 {
+            return Fmu::new3(h_fixed);
+        }
         // BENCH_OUTPUTS=T1: read only T1 (the cost of the other outputs by difference).
         let only = std::env::var("BENCH_OUTPUTS").ok();
         let outs: Vec<u32> = VARIABLES
@@ -128,12 +140,128 @@ impl Fmu {
                 assert_eq!(fmi2SetReal(c, &vr, 1, &h_fixed), Fmi2Status::OK);
             }
             assert_eq!(fmi2ExitInitializationMode(c), Fmi2Status::OK);
-            Fmu { c, outs, vals }
+            Fmu {
+                c,
+                v3: false,
+                outs,
+                vals,
+            }
+        }
+    }
+
+    /// The same instance through the FMI 3.0 functions.
+    fn new3(h_fixed: f64) -> Fmu {
+        let only = std::env::var("BENCH_OUTPUTS").ok();
+        let outs: Vec<u32> = VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Output && v.ty == VarType::Real)
+            .filter(|v| only.as_deref().is_none_or(|o| o == v.name))
+            .map(|v| v.vr)
+            .collect();
+        let vals = vec![0.0; outs.len()];
+        let name = CString::new("closed_loop").unwrap();
+        let guid = CString::new(GUID).unwrap();
+        // SAFETY: valid strings; the instance is freed in Drop.
+        unsafe {
+            let c = c3::fmi3InstantiateCoSimulation(
+                name.as_ptr(),
+                guid.as_ptr(),
+                ptr::null(),
+                0,
+                0,
+                0,
+                0,
+                ptr::null(),
+                0,
+                ptr::null_mut(),
+                None,
+                None,
+            );
+            assert!(!c.is_null());
+            if let Some(law) = std::env::var("BENCH_LAW")
+                .ok()
+                .and_then(|s| s.parse::<i32>().ok())
+            {
+                let vr = 1003;
+                assert_eq!(c3::fmi3SetInt32(c, &vr, 1, &law, 1), Fmi3Status::OK);
+            }
+            if h_fixed > 0.0 {
+                let vr = vr_of("h_fixed").expect("h_fixed");
+                assert_eq!(c3::fmi3SetFloat64(c, &vr, 1, &h_fixed, 1), Fmi3Status::OK);
+            }
+            assert_eq!(
+                c3::fmi3EnterInitializationMode(c, 1, 1e-6, 0.0, 0, 0.0),
+                Fmi3Status::OK
+            );
+            assert_eq!(c3::fmi3ExitInitializationMode(c), Fmi3Status::OK);
+            Fmu {
+                c,
+                v3: true,
+                outs,
+                vals,
+            }
+        }
+    }
+
+    /// SetReal / fmi3SetFloat64 of inputs.
+    ///
+    /// # Safety
+    /// Live instance.
+    #[inline]
+    unsafe fn set(&mut self, vrs: &[u32], v: &[f64]) {
+        // SAFETY: caller contract; slices of equal length.
+        unsafe {
+            if self.v3 {
+                let st = c3::fmi3SetFloat64(self.c, vrs.as_ptr(), vrs.len(), v.as_ptr(), v.len());
+                assert_eq!(st, Fmi3Status::OK);
+            } else {
+                let st = fmi2SetReal(self.c, vrs.as_ptr(), vrs.len(), v.as_ptr());
+                assert_eq!(st, Fmi2Status::OK);
+            }
+        }
+    }
+
+    /// DoStep, then GetReal / fmi3GetFloat64 of the outputs; whether the step was OK.
+    ///
+    /// # Safety
+    /// Live instance.
+    #[inline]
+    unsafe fn step_and_get(&mut self, t: f64, h: f64) -> bool {
+        // SAFETY: caller contract; out-pointers and buffers valid.
+        unsafe {
+            if self.v3 {
+                let (mut ev, mut term, mut early, mut last) = (0u8, 0u8, 0u8, 0.0);
+                let st = c3::fmi3DoStep(self.c, t, h, 1, &mut ev, &mut term, &mut early, &mut last);
+                let n = self.outs.len();
+                let g =
+                    c3::fmi3GetFloat64(self.c, self.outs.as_ptr(), n, self.vals.as_mut_ptr(), n);
+                st == Fmi3Status::OK && g == Fmi3Status::OK
+            } else {
+                let st = fmi2DoStep(self.c, t, h, 1);
+                let g = fmi2GetReal(
+                    self.c,
+                    self.outs.as_ptr(),
+                    self.outs.len(),
+                    self.vals.as_mut_ptr(),
+                );
+                st == Fmi2Status::OK && g == Fmi2Status::OK
+            }
         }
     }
 
     /// RADAU5 counters of the instance (read outside the timed calls).
     fn stats(&self) -> Statistics {
+        if self.v3 {
+            // SAFETY: fmi3InstantiateCoSimulation returns a boxed Instance3; no call is
+            // running.
+            let inst = unsafe { &*(self.c as *const c3::Instance3) };
+            return *inst
+                .inner
+                .model()
+                .simulation()
+                .expect("initialised")
+                .stats();
+        }
         // SAFETY: fmi2Instantiate returns a boxed Instance; no call is running.
         let inst = unsafe { &*(self.c as *const Instance) };
         *inst.model().simulation().expect("initialised").stats()
@@ -142,8 +270,15 @@ impl Fmu {
 
 impl Drop for Fmu {
     fn drop(&mut self) {
-        // SAFETY: instance created by fmi2Instantiate, freed once.
-        unsafe { fmi2FreeInstance(self.c) };
+        // SAFETY: instance created by fmi2Instantiate / fmi3InstantiateCoSimulation, freed
+        // once.
+        unsafe {
+            if self.v3 {
+                c3::fmi3FreeInstance(self.c);
+            } else {
+                fmi2FreeInstance(self.c);
+            }
+        }
     }
 }
 
@@ -179,8 +314,8 @@ fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
     m.nsol = m.nsol.max(d.nsol);
 }
 
-fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
-    let mut f = Fmu::new(case.h_fixed);
+fn run(case: Case, h: f64, per_call_cpu: bool, v3: bool) -> RunResult {
+    let mut f = Fmu::new(case.h_fixed, v3);
     let n = (T_END / h).round() as usize;
     let (vr_w, vr_tl) = (vr_of("omega1").unwrap(), vr_of("T_load").unwrap());
     let mut wall = Vec::with_capacity(n);
@@ -203,31 +338,19 @@ fn run(case: Case, h: f64, per_call_cpu: bool) -> RunResult {
         unsafe {
             match case.drive {
                 Drive::Constant => {}
-                Drive::Omega1 => {
-                    assert_eq!(fmi2SetReal(f.c, &vr_w, 1, &w), Fmi2Status::OK);
-                }
+                Drive::Omega1 => f.set(&[vr_w], &[w]),
                 Drive::Omega1Der => {
-                    assert_eq!(fmi2SetReal(f.c, &vr_w, 1, &w), Fmi2Status::OK);
+                    f.set(&[vr_w], &[w]);
+                    assert!(!f.v3, "FMI 3.0 has no input derivatives");
                     assert_eq!(
                         fmi2SetRealInputDerivatives(f.c, &vr_w, 1, &one, &wd),
                         Fmi2Status::OK
                     );
                 }
-                Drive::Omega1TLoad => {
-                    let vrs = [vr_w, vr_tl];
-                    let v = [w, tl];
-                    assert_eq!(
-                        fmi2SetReal(f.c, vrs.as_ptr(), 2, v.as_ptr()),
-                        Fmi2Status::OK
-                    );
-                }
+                Drive::Omega1TLoad => f.set(&[vr_w, vr_tl], &[w, tl]),
             }
-            let st = fmi2DoStep(f.c, t, h, 1);
-            assert_eq!(st, Fmi2Status::OK, "{} H = {h:e} at t = {t}", case.name);
-            assert_eq!(
-                fmi2GetReal(f.c, f.outs.as_ptr(), f.outs.len(), f.vals.as_mut_ptr()),
-                Fmi2Status::OK
-            );
+            let ok = f.step_and_get(t, h);
+            assert!(ok, "{} H = {h:e} at t = {t}", case.name);
         }
         let dt = w0.elapsed().as_secs_f64();
         if per_call_cpu {
@@ -312,6 +435,12 @@ fn main() {
     // machine, an arithmetic loop as long as that case's median call, timed the same way.
     let jitter = std::env::var("BENCH_JITTER").is_ok_and(|v| v == "1");
     let has_rt = vr_of("h_fixed").is_some();
+    // BENCH_FMI=3: through the FMI 3.0 functions; both: 2.0 and 3.0 side by side.
+    let versions: Vec<bool> = match std::env::var("BENCH_FMI").as_deref() {
+        Ok("3") => vec![true],
+        Ok("both") => vec![false, true],
+        _ => vec![false],
+    };
     println!(
         "closed-loop benchmark: default pair, rtol 1e-6, {T_END} s simulated per run, {repeats} repeats (medians; max also best of runs), {} online CPUs",
         std::thread::available_parallelism().map_or(0, |n| n.get())
@@ -367,7 +496,7 @@ fn main() {
                 h_fixed: 2.5e-5,
             });
         }
-        let mut cpu_const = f64::NAN;
+        let mut cpu_const = [f64::NAN; 2];
         for case in cases {
             // "=a,b": exactly these cases; otherwise a substring of the name.
             let selected = match filter.strip_prefix('=') {
@@ -377,30 +506,50 @@ fn main() {
             if !selected {
                 continue;
             }
-            let runs: Vec<RunResult> = (0..repeats).map(|_| run(case, h, per_call_cpu)).collect();
-            let cpu = median(runs.iter().map(|r| r.cpu_per_10ms).collect());
-            if case.name == "const" {
-                cpu_const = cpu;
-            }
-            let mut q = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
-            for r in &runs {
-                let mut w = r.wall.clone();
-                w.sort_by(f64::total_cmp);
-                for (k, p) in [0.5, 0.99, 0.999, 1.0].into_iter().enumerate() {
-                    q[k].push(quantile(&w, p) * 1e6);
+            let vs: Vec<bool> = versions
+                .iter()
+                .copied()
+                .filter(|&v3| !(v3 && case.drive == Drive::Omega1Der))
+                .collect();
+            // The runs of the versions alternated, so that a change of the machine's load
+            // hits both alike.
+            let mut all: Vec<Vec<RunResult>> = vs.iter().map(|_| Vec::new()).collect();
+            for _ in 0..repeats {
+                for (i, &v3) in vs.iter().enumerate() {
+                    all[i].push(run(case, h, per_call_cpu, v3));
                 }
             }
-            let best_max = q[3].iter().cloned().fold(f64::INFINITY, f64::min);
-            let r = &runs[0];
-            let n = r.n as f64;
-            let per = |x: u64| x as f64 / n;
-            println!(
+            let mut cpus = Vec::new();
+            for (runs, &v3) in all.iter().zip(&vs) {
+                let label = if versions.len() > 1 {
+                    format!("{} [{}]", case.name, if v3 { "3.0" } else { "2.0" })
+                } else {
+                    case.name.to_string()
+                };
+                let cpu = median(runs.iter().map(|r| r.cpu_per_10ms).collect());
+                cpus.push(cpu);
+                if case.name == "const" {
+                    cpu_const[usize::from(v3)] = cpu;
+                }
+                let mut q = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
+                for r in runs.iter() {
+                    let mut w = r.wall.clone();
+                    w.sort_by(f64::total_cmp);
+                    for (k, p) in [0.5, 0.99, 0.999, 1.0].into_iter().enumerate() {
+                        q[k].push(quantile(&w, p) * 1e6);
+                    }
+                }
+                let best_max = q[3].iter().cloned().fold(f64::INFINITY, f64::min);
+                let r = &runs[0];
+                let n = r.n as f64;
+                let per = |x: u64| x as f64 / n;
+                println!(
                 "{:<22} {:>7.0e} {:>8.2}ms {:>6.1} {:>6.2} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} | {:>6.3} {:>6.3} {:>6.2} {:>6.3} {:>6.3} {:>6.2} {:>5}",
-                case.name,
+                label,
                 h,
                 cpu * 1e3,
                 0.01 / cpu,
-                cpu / cpu_const,
+                cpu / cpu_const[usize::from(v3)],
                 median(q[0].clone()),
                 median(q[1].clone()),
                 median(q[2].clone()),
@@ -415,59 +564,59 @@ fn main() {
                 per(r.sum.nfcn),
                 r.max.nfcn,
             );
-            if case.h_fixed > 0.0 {
-                println!(
+                if case.h_fixed > 0.0 {
+                    println!(
                     "{:<22} per doStep: nfcn {}..{}, LU pairs max {}, Jacobians max {}, rejections max {}",
                     "", r.min_nfcn, r.max.nfcn, r.max.ndec, r.max.njac, r.max.nrejct
                 );
-                // Median call with and without a Jacobian + LU renewal (the schedule's
-                // slowest and typical doStep), medians over the runs.
-                let part = |j: bool| {
-                    median(
-                        runs.iter()
-                            .map(|r| {
-                                median(
-                                    r.wall
-                                        .iter()
-                                        .zip(&r.with_jac)
-                                        .filter(|(_, &w)| w == j)
-                                        .map(|(x, _)| *x * 1e6)
-                                        .collect(),
-                                )
-                            })
-                            .collect(),
-                    )
-                };
-                if r.with_jac.iter().any(|&w| !w) {
-                    println!(
-                        "{:<22} median call with J + LU {:.1} us, without {:.1} us",
-                        "",
-                        part(true),
-                        part(false)
-                    );
-                }
-            }
-            let splits: Vec<(f64, f64)> = runs.iter().map(|r| max_split(&r.wall, h)).collect();
-            println!(
-                "{:<22} max per call [us], first 50 ms / after, per run: {}",
-                "",
-                splits
-                    .iter()
-                    .map(|(a, b)| format!("{:.0}/{:.0}", a * 1e6, b * 1e6))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
-            if jitter && case.name == "rt 2.5e-5 omega1" {
-                let target = median(q[0].clone()) * 1e-6;
-                let mut q = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
-                for _ in 0..repeats {
-                    let mut w = jitter_floor(r.n, target);
-                    w.sort_by(f64::total_cmp);
-                    for (k, p) in [0.5, 0.99, 0.999, 1.0].into_iter().enumerate() {
-                        q[k].push(quantile(&w, p) * 1e6);
+                    // Median call with and without a Jacobian + LU renewal (the schedule's
+                    // slowest and typical doStep), medians over the runs.
+                    let part = |j: bool| {
+                        median(
+                            runs.iter()
+                                .map(|r| {
+                                    median(
+                                        r.wall
+                                            .iter()
+                                            .zip(&r.with_jac)
+                                            .filter(|(_, &w)| w == j)
+                                            .map(|(x, _)| *x * 1e6)
+                                            .collect(),
+                                    )
+                                })
+                                .collect(),
+                        )
+                    };
+                    if r.with_jac.iter().any(|&w| !w) {
+                        println!(
+                            "{:<22} median call with J + LU {:.1} us, without {:.1} us",
+                            "",
+                            part(true),
+                            part(false)
+                        );
                     }
                 }
+                let splits: Vec<(f64, f64)> = runs.iter().map(|r| max_split(&r.wall, h)).collect();
                 println!(
+                    "{:<22} max per call [us], first 50 ms / after, per run: {}",
+                    "",
+                    splits
+                        .iter()
+                        .map(|(a, b)| format!("{:.0}/{:.0}", a * 1e6, b * 1e6))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+                if jitter && case.name == "rt 2.5e-5 omega1" {
+                    let target = median(q[0].clone()) * 1e-6;
+                    let mut q = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
+                    for _ in 0..repeats {
+                        let mut w = jitter_floor(r.n, target);
+                        w.sort_by(f64::total_cmp);
+                        for (k, p) in [0.5, 0.99, 0.999, 1.0].into_iter().enumerate() {
+                            q[k].push(quantile(&w, p) * 1e6);
+                        }
+                    }
+                    println!(
                     "{:<22} {:>7.0e} {:>9} {:>6} {:>6} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1}",
                     "arithmetic loop",
                     h,
@@ -479,6 +628,20 @@ fn main() {
                     median(q[2].clone()),
                     median(q[3].clone()),
                     q[3].iter().cloned().fold(f64::INFINITY, f64::min),
+                );
+                }
+            }
+            if let [c2, c3] = cpus[..] {
+                let per: Vec<String> = all[0]
+                    .iter()
+                    .zip(&all[1])
+                    .map(|(a, b)| format!("{:.3}", b.cpu_per_10ms / a.cpu_per_10ms))
+                    .collect();
+                println!(
+                    "{:<22} FMI 3.0 / 2.0: ratio of the median CPU {:.3}; per alternated pair {}",
+                    "",
+                    c3 / c2,
+                    per.join(", ")
                 );
             }
         }

@@ -15,7 +15,11 @@
 //! - [`fmi2`]: the model-agnostic FMI 2.0 Co-Simulation layer: a safe, generic instance
 //!   (state machine, argument checks, logging, FMU-state envelope) and the contract
 //!   `fmi2::model::Model`. It names no model.
+//! - [`fmi3`]: the FMI 3.0 Co-Simulation layer over the same contract (and the same
+//!   generic instance with the FMI 3.0 table of names and states), with the typed value
+//!   dispatch and the doStep of 3.0 (early return).
 //! - [`c_abi`]: the thin unsafe C shell, every FMI 2.0 function for [`FmuModel`].
+//! - [`c_abi3`]: the same for FMI 3.0 (the names differ, so one library exports both).
 //! - [`parameter`]: how a parameter is described (name, unit, default, bounds, rule) and
 //!   [`parameter::ParamError`]; the tables are with the layers (`rotor::param_table`).
 //! - [`bytes`]: the one byte reader/writer (FMU state, RADAU5 snapshot).
@@ -25,7 +29,14 @@
 pub mod binding;
 pub mod bytes;
 pub mod c_abi;
+pub mod c_abi3;
 pub mod fmi2;
+pub mod fmi3;
+/// The build-time generator of the FMI 3.0 model description (build.rs includes the same
+/// file); compiled here only for its unit tests.
+#[cfg(test)]
+#[path = "../build/fmi3_description.rs"]
+mod fmi3_description;
 pub mod fmt_num;
 pub mod gear;
 pub mod hash;

@@ -1,8 +1,16 @@
-"""Session fixtures: build the .fmu once (cargo run --release --bin package-fmu)
-and extract it once; every test instantiates from the extracted copy.
+"""Session fixtures: build the .fmu files once (cargo run --release --bin package-fmu
+writes GearedRotor.fmu, FMI 2.0, and GearedRotor-fmi3.fmu, FMI 3.0) and extract each
+once; every test instantiates from the extracted copy.
+
+The main FMPy tests run on both files: the modules in FMI3_MODULES are parametrised with
+`fmi_version` ("fmi2" / "fmi3" in the test ids); `fmu_path` and `pkg` are the file of that
+version (helpers/fmi3_compat.py gives the FMI 3.0 instance the FMI 2.0-shaped calls the
+tests make). Tests of those modules that exercise what only FMI 2.0 has run on the 2.0
+file only (FMI2_ONLY, with the reason). Every other module runs on the 2.0 file.
 
 Environment:
-  GEARED_ROTOR_FMU=path   use this .fmu instead of building one
+  GEARED_ROTOR_FMU=path    use this .fmu instead of building one (FMI 2.0)
+  GEARED_ROTOR_FMU3=path   the same for the FMI 3.0 .fmu
 """
 
 from __future__ import annotations
@@ -67,8 +75,43 @@ def _default_fmpy_logger():
     restore_default_fmpy_logger()
 
 
+# Test modules that run on both .fmu files.
+FMI3_MODULES = {
+    "test_a_package",
+    "test_b_physics",
+    "test_g_input_step",
+    "test_c_step_independence",
+    "test_d_rollback",
+    "test_e_instances",
+    "test_h_events_discard",
+    "test_initialization",
+    "test_lift_off",
+    "test_reference_run",
+    "test_fmi3",
+}
+
+# Tests of those modules that need an FMI 2.0 function (module::test -> reason).
+FMI2_ONLY: dict[str, str] = {
+    "test_a_package::test_archive_layout": "binaries/linux64 (3.0: test_fmi3::test_archive_layout)",
+    "test_a_package::test_interface_names_types_causalities":
+        "asserts fmiVersion 2.0 (3.0: test_fmi3::test_same_interface_as_fmi2)",
+    "test_a_package::test_capabilities_declared":
+        "FMI 2.0 capability flags (3.0: test_fmi3::test_capabilities_declared)",
+}
+
+
+def pytest_generate_tests(metafunc):
+    if "fmi_version" not in metafunc.fixturenames:
+        return
+    module = metafunc.module.__name__.rsplit(".", 1)[-1]
+    key = f"{module}::{metafunc.function.__name__}"
+    both = module in FMI3_MODULES and key not in FMI2_ONLY
+    versions = ["fmi2", "fmi3"] if both else ["fmi2"]
+    metafunc.parametrize("fmi_version", versions, scope="session")
+
+
 @pytest.fixture(scope="session")
-def fmu_path() -> Path:
+def fmu2_path() -> Path:
     given = os.environ.get("GEARED_ROTOR_FMU")
     if given:
         p = Path(given)
@@ -78,5 +121,29 @@ def fmu_path() -> Path:
 
 
 @pytest.fixture(scope="session")
-def pkg(fmu_path: Path) -> FmuPackage:
-    return FmuPackage(fmu_path)
+def fmu3_path(fmu2_path: Path) -> Path:
+    given = os.environ.get("GEARED_ROTOR_FMU3")
+    p = Path(given) if given else fmu2_path.with_name("GearedRotor-fmi3.fmu")
+    assert p.is_file(), f"{p} does not exist (GEARED_ROTOR_FMU3, or package-fmu writes it)"
+    return p
+
+
+@pytest.fixture(scope="session")
+def fmu_path(fmi_version: str, request) -> Path:
+    name = "fmu3_path" if fmi_version == "fmi3" else "fmu2_path"
+    return request.getfixturevalue(name)
+
+
+@pytest.fixture(scope="session")
+def pkg2(fmu2_path: Path) -> FmuPackage:
+    return FmuPackage(fmu2_path)
+
+
+@pytest.fixture(scope="session")
+def pkg3(fmu3_path: Path) -> FmuPackage:
+    return FmuPackage(fmu3_path)
+
+
+@pytest.fixture(scope="session")
+def pkg(fmi_version: str, request) -> FmuPackage:
+    return request.getfixturevalue("pkg3" if fmi_version == "fmi3" else "pkg2")

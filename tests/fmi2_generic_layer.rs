@@ -9,10 +9,10 @@ use geared_rotor::bytes::{Reader, Writer};
 use geared_rotor::fmi2::error::{FmuError, ModelError};
 use geared_rotor::fmi2::instance::Instance;
 use geared_rotor::fmi2::logging::Logger;
-use geared_rotor::fmi2::model::{Experiment, Model};
-use geared_rotor::fmi2::state_machine::Phase;
+use geared_rotor::fmi2::model::{Experiment, Model, Phase, Status};
 use geared_rotor::fmi2::types::Fmi2Status;
 use geared_rotor::fmi2::variables::{by_name, Causality, VarType, Variable};
+use geared_rotor::fmi3::FMI3;
 use std::fmt;
 
 /// x' = (u - x) / tau with u = the input omega1, tau = the parameter mu (a stand-in with
@@ -60,7 +60,12 @@ impl Model for Lag {
         }
     }
     fn invalidate(&mut self) {}
-    fn exit_initialization(&mut self, exp: &Experiment, _: &Logger) -> Result<(), LagError> {
+    fn exit_initialization(
+        &mut self,
+        _: &'static str,
+        exp: &Experiment,
+        _: &Logger,
+    ) -> Result<(), LagError> {
         self.t = Some(exp.start);
         Ok(())
     }
@@ -97,7 +102,7 @@ impl Model for Lag {
         out.fill((self.u - self.x) / self.tau);
         Ok(())
     }
-    fn do_step(&mut self, t: f64, h: f64, _: &Logger) -> Result<Fmi2Status, LagError> {
+    fn do_step(&mut self, _: &'static str, t: f64, h: f64, _: &Logger) -> Result<Status, LagError> {
         if self.u > 1000.0 {
             return Err(LagError::TooFast(self.u));
         }
@@ -106,7 +111,7 @@ impl Model for Lag {
         // exact solution over h
         self.x = self.u + (self.x - self.u) * (-h / self.tau).exp();
         self.t = Some(t + h);
-        Ok(Fmi2Status::OK)
+        Ok(Status::OK)
     }
     fn step_tolerance(_: f64, h: f64) -> f64 {
         1e-9 * h
@@ -171,7 +176,7 @@ fn generic_layer_runs_a_toy_model() {
         ),
         "{e}"
     );
-    assert_eq!(e.status(), Fmi2Status::Error);
+    assert_eq!(e.status(), Status::Error);
     inst.setup_experiment(Some(1e-6), 0.0, Some(1.0)).unwrap();
     inst.enter_initialization_mode().unwrap();
     // Argument checks in the layer: unknown vr, NaN, declared bounds of mu ([0, 1]), an output.
@@ -223,10 +228,28 @@ fn generic_layer_runs_a_toy_model() {
     inst.set_state(&back).unwrap();
     assert_eq!(get1(&mut inst, "T1").to_bits(), x.to_bits());
     assert_eq!(inst.last_successful_time(), 0.4);
+    // The FMI 3.0 blob of the same state: read back by the FMI 3.0 side, refused by the
+    // FMI 2.0 side with a message naming the version, and the other way round.
+    let blob3 = Instance::<Lag>::serialize_state_as(&s, &FMI3);
+    assert_ne!(blob3, blob);
+    Instance::<Lag>::deserialize_state_as(&blob3, &FMI3).unwrap();
+    let e = Instance::<Lag>::deserialize_state(&blob3)
+        .err()
+        .expect("FMI 3.0 blob refused by FMI 2.0")
+        .to_string();
+    assert!(e.contains("state of the FMI 3.0 FMU"), "{e}");
+    let e = Instance::<Lag>::deserialize_state_as(&blob, &FMI3)
+        .err()
+        .expect("FMI 2.0 blob refused by FMI 3.0")
+        .to_string();
+    assert!(
+        e.starts_with("fmi3DeserializeFMUState") && e.contains("state of the FMI 2.0 FMU"),
+        "{e}"
+    );
     // The model's error: a discard in fmi2DoStep.
     set(&mut inst, "omega1", 5000.0).unwrap();
     let e = inst.do_step(0.4, 0.1).unwrap_err();
-    assert_eq!(e.status(), Fmi2Status::Discard, "{e}");
+    assert_eq!(e.status(), Status::Discard, "{e}");
     assert_eq!(inst.fail(&e), Fmi2Status::Discard);
     assert_eq!(inst.phase(), Phase::StepFailed);
     // Past stopTime: the layer's error.
@@ -241,6 +264,6 @@ fn generic_layer_runs_a_toy_model() {
     let mut inst3: Instance<Lag> = Instance::new("lag3", None, std::ptr::null_mut(), false);
     assert_eq!(
         inst3.setup_experiment(Some(0.5), 0.0, None).unwrap(),
-        Fmi2Status::Warning
+        Status::Warning
     );
 }

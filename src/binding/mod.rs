@@ -13,12 +13,12 @@ pub use state::BindingState;
 
 use crate::fmi2::bounds;
 use crate::fmi2::logging::{Category, Logger};
-use crate::fmi2::model::{Experiment, Model};
-use crate::fmi2::state_machine::Phase;
-use crate::fmi2::types::Fmi2Status;
+use crate::fmi2::model::{Experiment, Model, Phase, Status, StepEnd};
 use crate::fmi2::variables::{self, Causality, Var, VarType, Variable, N_VARIABLES};
 use crate::fmt_num::Short;
-use crate::sim::{self, Initialization, Input, SimError, Simulation, RTOL_MAX, RTOL_MIN};
+use crate::sim::{
+    self, Initialization, Input, OnViolation, SimError, Simulation, RTOL_MAX, RTOL_MIN,
+};
 use values::{input_of, Values};
 
 /// The geared-rotor FMU model: parameter and input values and, once initialised, the
@@ -147,12 +147,144 @@ impl GearedRotorFmu {
         Ok(self.output_values[var.var as usize])
     }
 
-    fn log_exit_initialization(&self, exp: &Experiment, log: &Logger) {
+    /// doStep from `ccp` over `h`; with `until_event` (FMI 3.0 early return allowed) and
+    /// `on_lift_off = warn`, it ends at the located start of an episode outside the validity.
+    fn step(
+        &mut self,
+        func: &'static str,
+        ccp: f64,
+        h: f64,
+        log: &Logger,
+        until_event: bool,
+    ) -> Result<StepEnd, BindingError> {
+        let policy = values::on_violation(&self.values).unwrap_or_default();
+        let early = until_event && policy == OnViolation::Warn;
+        let max_steps = self.v(Var::max_internal_steps) as u64;
+        let sim = self
+            .sim
+            .as_mut()
+            .ok_or_else(|| BindingError::NotAvailable("no simulation".into()))?;
+        let t0 = sim.time();
+        // Early return: the simulation stops at the located instant as for discard.
+        sim.set_on_violation(if early { OnViolation::Discard } else { policy });
+        sim.set_max_internal_steps(max_steps);
+        let mut r = sim.do_step(ccp, h);
+        // The FMU's own policy again (it is part of an FMU state).
+        sim.set_on_violation(policy);
+        self.outputs_valid = false;
+        // An episode that holds at the start of the step (the start state, or at once after
+        // an input change at the point) is no early return (the step would not advance):
+        // it is reported as with on_lift_off = warn, and the step goes on from the point.
+        let mut at_start = None;
+        if let Err(SimError::Validity(v)) = &r {
+            if early && v.t <= ccp {
+                at_start = Some(*v);
+                r = sim.do_step(ccp, h);
+            }
+        }
+        let report = match r {
+            Err(SimError::Validity(v)) if early => {
+                log.log(
+                    Status::Warning,
+                    Category::Warning,
+                    &format!(
+                        "{func}: {v}; returning early at t = {} s (earlyReturn, the step was to end at {} s)",
+                        Short(v.t),
+                        Short(ccp + h)
+                    ),
+                );
+                return Ok(StepEnd {
+                    status: Status::Warning,
+                    early_return: Some(v.t),
+                });
+            }
+            r => r?,
+        };
+        let mut status = Status::OK;
+        for v in at_start.iter().chain(report.violations.iter().flatten()) {
+            log.log(Status::Warning, Category::Warning, &format!("{func}: {v}"));
+            status = Status::Warning;
+        }
+        if report.violations_dropped > 0 {
+            log.log(
+                Status::Warning,
+                Category::Warning,
+                &format!(
+                    "{func}: {} further episodes outside the model's validity in [{t0}, {}] s",
+                    report.violations_dropped,
+                    ccp + h
+                ),
+            );
+        }
+        if report.contact_changes > 0 && log.enabled(Category::Events) {
+            let what = if report.contact_lost {
+                "lifted off (lambda < 0)"
+            } else {
+                "back in contact (lambda >= 0)"
+            };
+            log.log(
+                Status::OK,
+                Category::Events,
+                &format!(
+                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {:.12} s (located); at the end the teeth are {what}",
+                    report.contact_changes,
+                    Short(t0),
+                    Short(ccp + h),
+                    report.first_change_time
+                ),
+            );
+        }
+        if log.enabled(Category::Events) {
+            for c in report.stick_changes.iter().flatten() {
+                let what = if c.stick {
+                    "a contact line sticks at the pitch line (its sliding stopped; the friction force that holds it is within mu times its share of Fn)"
+                } else {
+                    "the stuck contact line slides again (the force needed to hold it reached mu times its share of Fn)"
+                };
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!("t = {:.12} s (located): {what}", c.t),
+                );
+            }
+            if report.stick_changes_dropped > 0 {
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!(
+                        "{} further stick/slip changes in [{}, {}] s",
+                        report.stick_changes_dropped,
+                        Short(t0),
+                        Short(ccp + h)
+                    ),
+                );
+            }
+        }
+        if log.enabled(Category::Solver) {
+            log.log(
+                Status::OK,
+                Category::Solver,
+                &format!(
+                    "doStep [{}, {}] s{}: {}",
+                    Short(t0),
+                    Short(ccp + h),
+                    if report.restarted { " (restart)" } else { "" },
+                    report.stats
+                ),
+            );
+        }
+        Ok(StepEnd {
+            status,
+            early_return: None,
+        })
+    }
+
+    fn log_exit_initialization(&self, func: &'static str, exp: &Experiment, log: &Logger) {
         if let (Ok(init), Some(sim)) = (values::initialization(&self.values), self.sim.as_ref()) {
             let r = sim.init_report();
             if init == Initialization::Periodic && log.enabled(Category::Solver) {
                 log.log(
-                    Fmi2Status::OK,
+                    Status::OK,
                     Category::Solver,
                     &format!(
                         "initialization = periodic: orbit by chord shooting from the static equilibrium, \
@@ -165,17 +297,13 @@ impl GearedRotorFmu {
         }
         if let Some(sim) = self.sim.as_ref() {
             for w in values::init_warnings(sim.model(), sim.time()) {
-                log.log(
-                    Fmi2Status::Warning,
-                    Category::Warning,
-                    &format!("fmi2ExitInitializationMode: {w}"),
-                );
+                log.log(Status::Warning, Category::Warning, &format!("{func}: {w}"));
             }
         }
         let (s, source) = values::settings(&self.values, exp);
         if let (true, Some(sim)) = (log.enabled(Category::Solver), self.sim.as_ref()) {
             log.log(
-                Fmi2Status::OK,
+                Status::OK,
                 Category::Solver,
                 &format!(
                     "RADAU5: rtol = {:e} (from {source}), atol_i = rtol * scale_i with scales {:?}, h_max = {:e} s, start time {} s",
@@ -188,7 +316,7 @@ impl GearedRotorFmu {
             let h_fixed = self.v(Var::h_fixed);
             if h_fixed > 0.0 {
                 log.log(
-                    Fmi2Status::OK,
+                    Status::OK,
                     Category::Solver,
                     &format!(
                         "real-time mode: h_fixed = {h_fixed:e} s: per doStep of H, ceil(H/h_fixed) equal steps of {} Newton iterations, one Jacobian and LU pair (per doStep, or per 1e-4 s on a fixed time grid when H < 1e-4 s), no error control",
@@ -221,10 +349,15 @@ impl Model for GearedRotorFmu {
         self.dirty = true;
     }
 
-    fn exit_initialization(&mut self, exp: &Experiment, log: &Logger) -> Result<(), BindingError> {
+    fn exit_initialization(
+        &mut self,
+        func: &'static str,
+        exp: &Experiment,
+        log: &Logger,
+    ) -> Result<(), BindingError> {
         values::on_violation(&self.values).map_err(|e| sim_err(SimError::Param(e)))?;
         self.ensure_sim(exp)?;
-        self.log_exit_initialization(exp, log);
+        self.log_exit_initialization(func, exp, log);
         Ok(())
     }
 
@@ -232,7 +365,7 @@ impl Model for GearedRotorFmu {
         if let Some(sim) = &self.sim {
             if log.enabled(Category::Solver) {
                 log.log(
-                    Fmi2Status::OK,
+                    Status::OK,
                     Category::Solver,
                     &format!(
                         "RADAU5 totals at t = {}: {}",
@@ -323,100 +456,31 @@ impl Model for GearedRotorFmu {
         Ok(())
     }
 
-    /// Returns fmi2Warning when an episode outside the model's validity started in the
+    /// Returns Warning when an episode outside the model's validity started in the
     /// step (lift-off, drive reversal; `on_lift_off = warn`), with a message.
-    fn do_step(&mut self, ccp: f64, h: f64, log: &Logger) -> Result<Fmi2Status, BindingError> {
-        let func = "fmi2DoStep";
-        let policy = values::on_violation(&self.values).unwrap_or_default();
-        let max_steps = self.v(Var::max_internal_steps) as u64;
-        let sim = self
-            .sim
-            .as_mut()
-            .ok_or_else(|| BindingError::NotAvailable("no simulation".into()))?;
-        let t0 = sim.time();
-        sim.set_on_violation(policy);
-        sim.set_max_internal_steps(max_steps);
-        let r = sim.do_step(ccp, h);
-        self.outputs_valid = false;
-        let report = r?;
-        let mut status = Fmi2Status::OK;
-        for v in report.violations.iter().flatten() {
-            log.log(
-                Fmi2Status::Warning,
-                Category::Warning,
-                &format!("{func}: {v}"),
-            );
-            status = Fmi2Status::Warning;
-        }
-        if report.violations_dropped > 0 {
-            log.log(
-                Fmi2Status::Warning,
-                Category::Warning,
-                &format!(
-                    "{func}: {} further episodes outside the model's validity in [{t0}, {}] s",
-                    report.violations_dropped,
-                    ccp + h
-                ),
-            );
-        }
-        if report.contact_changes > 0 && log.enabled(Category::Events) {
-            let what = if report.contact_lost {
-                "lifted off (lambda < 0)"
-            } else {
-                "back in contact (lambda >= 0)"
-            };
-            log.log(
-                Fmi2Status::OK,
-                Category::Events,
-                &format!(
-                    "contact_lost changed {} time(s) in [{}, {}] s, first at t = {:.12} s (located); at the end the teeth are {what}",
-                    report.contact_changes,
-                    Short(t0),
-                    Short(ccp + h),
-                    report.first_change_time
-                ),
-            );
-        }
-        if log.enabled(Category::Events) {
-            for c in report.stick_changes.iter().flatten() {
-                let what = if c.stick {
-                    "a contact line sticks at the pitch line (its sliding stopped; the friction force that holds it is within mu times its share of Fn)"
-                } else {
-                    "the stuck contact line slides again (the force needed to hold it reached mu times its share of Fn)"
-                };
-                log.log(
-                    Fmi2Status::OK,
-                    Category::Events,
-                    &format!("t = {:.12} s (located): {what}", c.t),
-                );
-            }
-            if report.stick_changes_dropped > 0 {
-                log.log(
-                    Fmi2Status::OK,
-                    Category::Events,
-                    &format!(
-                        "{} further stick/slip changes in [{}, {}] s",
-                        report.stick_changes_dropped,
-                        Short(t0),
-                        Short(ccp + h)
-                    ),
-                );
-            }
-        }
-        if log.enabled(Category::Solver) {
-            log.log(
-                Fmi2Status::OK,
-                Category::Solver,
-                &format!(
-                    "doStep [{}, {}] s{}: {}",
-                    Short(t0),
-                    Short(ccp + h),
-                    if report.restarted { " (restart)" } else { "" },
-                    report.stats
-                ),
-            );
-        }
-        Ok(status)
+    fn do_step(
+        &mut self,
+        func: &'static str,
+        ccp: f64,
+        h: f64,
+        log: &Logger,
+    ) -> Result<Status, BindingError> {
+        self.step(func, ccp, h, log, false).map(|end| end.status)
+    }
+
+    /// With `on_lift_off = warn`, the step ends early at the located start of an episode
+    /// outside the validity (lift-off, drive reversal: the instant `on_lift_off = discard`
+    /// stops at) when it lies inside the step, with Warning and the message; the model is at
+    /// that instant and runs on from it. An episode that holds at the step's start is
+    /// reported and the step completes. With `on_lift_off = discard` as [`Model::do_step`].
+    fn do_step_until_event(
+        &mut self,
+        func: &'static str,
+        ccp: f64,
+        h: f64,
+        log: &Logger,
+    ) -> Result<StepEnd, BindingError> {
+        self.step(func, ccp, h, log, true)
     }
 
     fn step_tolerance(t: f64, h: f64) -> f64 {

@@ -6,7 +6,7 @@ use super::values::{self, Values};
 use crate::bytes::{DecodeError, Reader, Writer};
 use crate::fmi2::bounds;
 use crate::fmi2::model::Experiment;
-use crate::fmi2::state_machine::Phase;
+use crate::fmi2::model::Phase;
 use crate::fmi2::variables::{self, Var, N_VARIABLES};
 use crate::fmt_num::Short;
 use crate::sim::{SimError, SimState};

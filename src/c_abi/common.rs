@@ -5,6 +5,7 @@ use super::{call, slice, OK};
 use super::{FmuError, FmuState, Instance};
 use crate::fmi2::instance::INSTANCE_MAGIC;
 use crate::fmi2::logging::Category;
+use crate::fmi2::model::Status;
 use crate::fmi2::types::*;
 use crate::fmi2::variables::{self};
 use std::ffi::{c_int, c_void, CStr};
@@ -92,7 +93,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         );
         let err = |msg: String| {
             inst.log(
-                Fmi2Status::Error,
+                Status::Error,
                 Category::Error,
                 &format!("fmi2Instantiate: {msg}"),
             );

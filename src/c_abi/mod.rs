@@ -30,6 +30,7 @@ pub type FmuState = crate::fmi2::instance::FmuState<FmuModel>;
 /// The errors of the FMI functions.
 pub type FmuError = crate::fmi2::error::FmuError<<FmuModel as crate::fmi2::model::Model>::Error>;
 use crate::fmi2::instance::INSTANCE_MAGIC;
+use crate::fmi2::model::Status;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
@@ -49,7 +50,7 @@ fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
 unsafe fn call(
     c: Fmi2Component,
     func: &'static str,
-    f: impl FnOnce(&mut Instance) -> Result<Fmi2Status, FmuError>,
+    f: impl FnOnce(&mut Instance) -> Result<Status, FmuError>,
 ) -> Fmi2Status {
     if c.is_null() {
         return Fmi2Status::Error;
@@ -63,7 +64,7 @@ unsafe fn call(
     let r = catch_unwind(AssertUnwindSafe(|| f(unsafe { &mut *inst })));
     let inst = unsafe { &mut *inst };
     match r {
-        Ok(Ok(s)) => s,
+        Ok(Ok(s)) => s.into(),
         Ok(Err(e)) => inst.fail(&e),
         Err(p) => inst.fail(&FmuError::Panic {
             func,
@@ -112,7 +113,7 @@ unsafe fn slice_mut<'a, T>(
     }
 }
 
-const OK: Result<Fmi2Status, FmuError> = Ok(Fmi2Status::OK);
+const OK: Result<Status, FmuError> = Ok(Status::OK);
 
 /// Test hook (Rust only, not exported from the shared library): the next guarded call on
 /// this instance panics, to prove that panics are caught at the C boundary.

@@ -4,15 +4,15 @@
 //! ([`ModelError::is_discard`]).
 
 use super::bounds::OutOfBounds;
+use super::model::Status;
 use super::state_machine::Phase;
-use super::types::Fmi2Status;
 use crate::bytes::DecodeError;
 use crate::fmt_num::Short;
 use std::fmt;
 
 /// What the FMI layer needs to know of a model's error.
 pub trait ModelError: fmt::Display + fmt::Debug {
-    /// Whether this error, from fmi2DoStep, means fmi2Discard (the state is that of the
+    /// Whether this error, from a doStep, means Discard (the state is that of the
     /// last successful time; the master may roll back and retry with a smaller step). From
     /// any other function every model error is fmi2Error.
     fn is_discard(&self) -> bool;
@@ -148,15 +148,17 @@ impl<E: ModelError> FmuError<E> {
     /// fmi2Discard (FMI 2.0 section 4.2.3); panics and calls after them fmi2Fatal;
     /// everything else fmi2Error (only fmi2DoStep may return fmi2Discard: a solver failure
     /// while setting up the initial state is an error).
-    pub fn status(&self) -> Fmi2Status {
+    ///
+    /// The same for FMI 3.0 (`fmi3DoStep`), whose statuses have the same names.
+    pub fn status(&self) -> Status {
         match self {
             FmuError::Model {
-                func: "fmi2DoStep",
+                func: "fmi2DoStep" | "fmi3DoStep",
                 error,
-            } if error.is_discard() => Fmi2Status::Discard,
-            FmuError::StatusNotAvailable { .. } => Fmi2Status::Discard,
-            FmuError::Panic { .. } | FmuError::AfterFatal { .. } => Fmi2Status::Fatal,
-            _ => Fmi2Status::Error,
+            } if error.is_discard() => Status::Discard,
+            FmuError::StatusNotAvailable { .. } => Status::Discard,
+            FmuError::Panic { .. } | FmuError::AfterFatal { .. } => Status::Fatal,
+            _ => Status::Error,
         }
     }
 }
@@ -221,7 +223,8 @@ impl<E: fmt::Display> fmt::Display for FmuError<E> {
             }
             FmuError::AfterFatal { func } => write!(
                 f,
-                "{func}: the instance is in the Fatal state; only fmi2FreeInstance is allowed"
+                "{func}: the instance is in the Fatal state; only {}FreeInstance is allowed",
+                func.get(..4).unwrap_or("fmi2")
             ),
             FmuError::OutOfBounds { func, error } => {
                 write!(f, "{func}: {error}; nothing was changed")

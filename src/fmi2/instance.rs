@@ -1,14 +1,15 @@
-//! The safe, model-agnostic FMU instance behind the C shell: the FMI 2.0 Co-Simulation
-//! state machine (one allowed-state table per function, one guard), the argument checks
+//! The safe, model-agnostic FMU instance behind the C shells: the Co-Simulation state
+//! machine (one allowed-state table per function and FMI version, a [`Dialect`], one
+//! guard), the argument checks
 //! against the variable table, logging, the experiment and the FMU-state envelope. What a
 //! variable means is the model's business ([`Model`]). Every error is a typed
 //! [`FmuError`] whose FMI status is decided in exactly one place, [`FmuError::status`].
 
 use super::bounds;
 use super::error::FmuError;
-use super::logging::{Category, Logger};
-use super::model::{Experiment, Model};
-use super::state_machine::{allowed, Phase};
+use super::logging::{Category, Logger, Sink};
+use super::model::{Experiment, Model, Status, StepEnd};
+use super::state_machine::{Dialect, Phase, FMI2};
 use super::types::{Fmi2CallbackLogger, Fmi2ComponentEnvironment, Fmi2Status};
 use super::variables::{self, Causality, VarType, Variability, Variable};
 use crate::bytes::{self, DecodeError, Reader, Writer};
@@ -22,13 +23,17 @@ pub struct FmuState<M: Model> {
     model: M::State,
 }
 
-/// Magic value of a live instance (detects some use-after-free / foreign pointers).
-pub const INSTANCE_MAGIC: u64 = 0x4752_5f49_4e53_5431;
+/// Magic value of a live FMI 2.0 instance (detects some use-after-free / foreign pointers;
+/// an FMI 3.0 instance has [`Dialect::magic`] of its own).
+pub const INSTANCE_MAGIC: u64 = FMI2.magic;
 
-/// One FMU instance of model `M`.
+/// One FMU instance of model `M`. `repr(C)` with the magic first, so that the C shells of
+/// both FMI versions read the magic at the same place and refuse the other's instances.
+#[repr(C)]
 pub struct Instance<M: Model> {
-    /// [`INSTANCE_MAGIC`] while alive.
+    /// [`Dialect::magic`] of its FMI version while alive.
     pub magic: u64,
+    dialect: &'static Dialect,
     logger: Logger,
     phase: Phase,
     experiment: Experiment,
@@ -47,16 +52,27 @@ fn lookup<E>(func: &'static str, ty: VarType, vr: u32) -> Result<&'static Variab
 }
 
 impl<M: Model> Instance<M> {
-    /// A new instance (after the shell checked GUID, type and name).
+    /// A new FMI 2.0 instance (after the shell checked GUID, type and name).
     pub fn new(
         name: &str,
         logger: Fmi2CallbackLogger,
         env: Fmi2ComponentEnvironment,
         logging_on: bool,
     ) -> Self {
+        Self::with_dialect(name, Sink::Fmi2(logger, env), logging_on, &FMI2)
+    }
+
+    /// A new instance of the FMI version `dialect` logging to `sink`.
+    pub fn with_dialect(
+        name: &str,
+        sink: Sink,
+        logging_on: bool,
+        dialect: &'static Dialect,
+    ) -> Self {
         Instance {
-            magic: INSTANCE_MAGIC,
-            logger: Logger::new(name, logger, env, logging_on),
+            magic: dialect.magic,
+            dialect,
+            logger: Logger::new(name, sink, logging_on),
             phase: Phase::Instantiated,
             experiment: Experiment::DEFAULT,
             model: M::instantiate(),
@@ -70,13 +86,23 @@ impl<M: Model> Instance<M> {
         self.phase
     }
 
+    /// The instance's time: the model's once it runs, else the experiment's start time.
+    pub fn time(&self) -> f64 {
+        self.model.time().unwrap_or(self.experiment.start)
+    }
+
     /// The model.
     pub fn model(&self) -> &M {
         &self.model
     }
 
+    /// The FMI version's table.
+    pub fn dialect(&self) -> &'static Dialect {
+        self.dialect
+    }
+
     /// Sends a message to the master's logger (see [`Logger::log`]).
-    pub fn log(&self, status: Fmi2Status, category: Category, msg: &str) {
+    pub fn log(&self, status: Status, category: Category, msg: &str) {
         self.logger.log(status, category, msg);
     }
 
@@ -101,22 +127,27 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
+    /// [`Instance::fail_status`] as an `fmi2Status`.
+    pub fn fail(&mut self, e: &FmuError<M::Error>) -> Fmi2Status {
+        self.fail_status(e).into()
+    }
+
     /// Logs an error and moves the state machine: Error -> Error state, Fatal -> Fatal,
     /// Discard -> StepFailed. Returns the status.
-    pub fn fail(&mut self, e: &FmuError<M::Error>) -> Fmi2Status {
+    pub fn fail_status(&mut self, e: &FmuError<M::Error>) -> Status {
         let status = e.status();
-        let cat = if status == Fmi2Status::Discard {
+        let cat = if status == Status::Discard {
             Category::Warning
         } else {
             Category::Error
         };
         self.log(status, cat, &e.to_string());
         match status {
-            Fmi2Status::Fatal => self.phase = Phase::Fatal,
+            Status::Fatal => self.phase = Phase::Fatal,
             // An unavailable status kind changes nothing; a discarded step does.
-            Fmi2Status::Discard if matches!(e, FmuError::StatusNotAvailable { .. }) => {}
-            Fmi2Status::Discard => self.phase = Phase::StepFailed,
-            Fmi2Status::Error if self.phase != Phase::Fatal => self.phase = Phase::Error,
+            Status::Discard if matches!(e, FmuError::StatusNotAvailable { .. }) => {}
+            Status::Discard => self.phase = Phase::StepFailed,
+            Status::Error if self.phase != Phase::Fatal => self.phase = Phase::Error,
             _ => {}
         }
         status
@@ -127,8 +158,8 @@ impl<M: Model> Instance<M> {
     /// # Errors
     /// Unknown category.
     pub fn set_debug_logging(&mut self, on: bool, cats: &[&str]) -> Result<(), FmuError<M::Error>> {
-        let func = "fmi2SetDebugLogging";
-        self.guard(func, allowed::SET_DEBUG_LOGGING)?;
+        let func = self.dialect.set_debug_logging.name;
+        self.guard(func, self.dialect.set_debug_logging.allowed)?;
         self.logger
             .set_categories(on, cats)
             .map_err(|message| FmuError::BadArgument { func, message })
@@ -145,10 +176,10 @@ impl<M: Model> Instance<M> {
         tol: Option<f64>,
         start: f64,
         stop: Option<f64>,
-    ) -> Result<Fmi2Status, FmuError<M::Error>> {
-        let func = "fmi2SetupExperiment";
-        self.guard(func, allowed::SETUP_EXPERIMENT)?;
-        let mut status = Fmi2Status::OK;
+    ) -> Result<Status, FmuError<M::Error>> {
+        let func = self.dialect.setup_experiment.name;
+        self.guard(func, self.dialect.setup_experiment.allowed)?;
+        let mut status = Status::OK;
         let mut tol = tol;
         if let Some(t) = tol {
             if !(t > 0.0 && t.is_finite()) {
@@ -161,13 +192,13 @@ impl<M: Model> Instance<M> {
             let used = t.clamp(lo, hi);
             if used != t {
                 self.log(
-                    Fmi2Status::Warning,
+                    Status::Warning,
                     Category::Warning,
                     &format!(
                         "{func}: tolerance = {t:e} is outside the range the solver supports, [{lo:e}, {hi:e}]; using {} = {used:e}", M::TOLERANCE_NAME
                     ),
                 );
-                status = Fmi2Status::Warning;
+                status = Status::Warning;
                 tol = Some(used);
             }
         }
@@ -203,7 +234,8 @@ impl<M: Model> Instance<M> {
     /// # Errors
     /// Illegal call sequence.
     pub fn enter_initialization_mode(&mut self) -> Result<(), FmuError<M::Error>> {
-        self.guard("fmi2EnterInitializationMode", allowed::ENTER_INIT)?;
+        let c = self.dialect.enter_init;
+        self.guard(c.name, c.allowed)?;
         self.phase = Phase::InitializationMode;
         self.model.invalidate();
         Ok(())
@@ -215,10 +247,10 @@ impl<M: Model> Instance<M> {
     /// # Errors
     /// The model's reason.
     pub fn exit_initialization_mode(&mut self) -> Result<(), FmuError<M::Error>> {
-        let func = "fmi2ExitInitializationMode";
-        self.guard(func, allowed::EXIT_INIT)?;
+        let func = self.dialect.exit_init.name;
+        self.guard(func, self.dialect.exit_init.allowed)?;
         self.model
-            .exit_initialization(&self.experiment, &self.logger)
+            .exit_initialization(func, &self.experiment, &self.logger)
             .map_err(|error| FmuError::Model { func, error })?;
         self.phase = Phase::StepComplete;
         Ok(())
@@ -229,7 +261,8 @@ impl<M: Model> Instance<M> {
     /// # Errors
     /// Illegal call sequence.
     pub fn terminate(&mut self) -> Result<(), FmuError<M::Error>> {
-        self.guard("fmi2Terminate", allowed::TERMINATE)?;
+        let c = self.dialect.terminate;
+        self.guard(c.name, c.allowed)?;
         self.model.terminate(&self.logger);
         self.phase = Phase::Terminated;
         Ok(())
@@ -240,7 +273,8 @@ impl<M: Model> Instance<M> {
     /// # Errors
     /// After Fatal.
     pub fn reset(&mut self) -> Result<(), FmuError<M::Error>> {
-        self.guard("fmi2Reset", allowed::RESET)?;
+        let c = self.dialect.reset;
+        self.guard(c.name, c.allowed)?;
         self.phase = Phase::Instantiated;
         self.model = M::instantiate();
         self.experiment = Experiment::DEFAULT;
@@ -278,7 +312,7 @@ impl<M: Model> Instance<M> {
         vrs: &[u32],
         mut out: impl FnMut(usize, f64),
     ) -> Result<(), FmuError<M::Error>> {
-        self.guard(func, allowed::GET)?;
+        self.guard(func, self.dialect.get)?;
         // One variable after the other, the error paths out of line (a master reads every
         // output at every point: this loop is part of the cost of a communication step).
         for (i, &vr) in vrs.iter().enumerate() {
@@ -305,7 +339,7 @@ impl<M: Model> Instance<M> {
         vrs: &[u32],
         value: &dyn Fn(usize) -> f64,
     ) -> Result<(), FmuError<M::Error>> {
-        self.guard(func, allowed::SET)?;
+        self.guard(func, self.dialect.set)?;
         let stepping = self.phase == Phase::StepComplete;
         for (i, &vr) in vrs.iter().enumerate() {
             let var = lookup(func, ty, vr)?;
@@ -366,8 +400,8 @@ impl<M: Model> Instance<M> {
         orders: &[i32],
         values: &[f64],
     ) -> Result<(), FmuError<M::Error>> {
-        let func = "fmi2SetRealInputDerivatives";
-        self.guard(func, allowed::SET_INPUT_DER)?;
+        let func = self.dialect.set_input_der.name;
+        self.guard(func, self.dialect.set_input_der.allowed)?;
         let stepping = self.phase == Phase::StepComplete;
         for (i, &vr) in vrs.iter().enumerate() {
             let var = lookup(func, VarType::Real, vr)?;
@@ -411,8 +445,8 @@ impl<M: Model> Instance<M> {
         orders: &[i32],
         out: &mut [f64],
     ) -> Result<(), FmuError<M::Error>> {
-        let func = "fmi2GetRealOutputDerivatives";
-        self.guard(func, allowed::GET_OUTPUT_DER)?;
+        let func = self.dialect.get_output_der.name;
+        self.guard(func, self.dialect.get_output_der.allowed)?;
         // Check every reference first (nothing written on error), then evaluate: no
         // allocation per call.
         for (i, &vr) in vrs.iter().enumerate() {
@@ -446,9 +480,29 @@ impl<M: Model> Instance<M> {
     ///
     /// # Errors
     /// Illegal call, a step past stopTime, the model's reasons (Discard or Error).
-    pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<Fmi2Status, FmuError<M::Error>> {
-        let func = "fmi2DoStep";
-        self.guard(func, allowed::DO_STEP)?;
+    pub fn do_step(&mut self, ccp: f64, h: f64) -> Result<Status, FmuError<M::Error>> {
+        let func = self.check_step(ccp, h)?;
+        self.model
+            .do_step(func, ccp, h, &self.logger)
+            .map_err(|error| FmuError::Model { func, error })
+    }
+
+    /// A doStep that may end early at an event of the model (FMI 3.0 early return,
+    /// [`Model::do_step_until_event`]).
+    ///
+    /// # Errors
+    /// As [`Instance::do_step`].
+    pub fn do_step_until_event(&mut self, ccp: f64, h: f64) -> Result<StepEnd, FmuError<M::Error>> {
+        let func = self.check_step(ccp, h)?;
+        self.model
+            .do_step_until_event(func, ccp, h, &self.logger)
+            .map_err(|error| FmuError::Model { func, error })
+    }
+
+    /// The checks of a doStep before the model steps: call sequence, stopTime.
+    fn check_step(&mut self, ccp: f64, h: f64) -> Result<&'static str, FmuError<M::Error>> {
+        let func = self.dialect.do_step.name;
+        self.guard(func, self.dialect.do_step.allowed)?;
         // FMI 2.0 section 2.1.6: computing past a defined stopTime is an error (with the
         // tolerance of the communication point, so a last step that lands on stopTime
         // up to round-off is accepted).
@@ -457,17 +511,16 @@ impl<M: Model> Instance<M> {
                 return Err(FmuError::BadArgument {
                     func,
                     message: format!(
-                        "the step [{}, {}] s goes past stopTime = {} s of fmi2SetupExperiment",
+                        "the step [{}, {}] s goes past stopTime = {} s of {}",
                         Short(ccp),
                         Short(ccp + h),
-                        Short(stop)
+                        Short(stop),
+                        self.dialect.setup_experiment.name
                     ),
                 });
             }
         }
-        self.model
-            .do_step(ccp, h, &self.logger)
-            .map_err(|error| FmuError::Model { func, error })
+        Ok(func)
     }
 
     /// Time of the last successful step (fmi2GetRealStatus(fmi2LastSuccessfulTime)).
@@ -482,7 +535,8 @@ impl<M: Model> Instance<M> {
     /// # Errors
     /// Illegal call.
     pub fn get_state(&mut self) -> Result<FmuState<M>, FmuError<M::Error>> {
-        self.guard("fmi2GetFMUstate", allowed::FMU_STATE)?;
+        let c = self.dialect.get_state;
+        self.guard(c.name, c.allowed)?;
         Ok(FmuState {
             phase: self.phase,
             experiment: self.experiment,
@@ -496,8 +550,8 @@ impl<M: Model> Instance<M> {
     /// # Errors
     /// Illegal call, a state that cannot be rebuilt (the instance is unchanged).
     pub fn set_state(&mut self, s: &FmuState<M>) -> Result<(), FmuError<M::Error>> {
-        let func = "fmi2SetFMUstate";
-        self.guard(func, allowed::FMU_STATE)?;
+        let func = self.dialect.set_state.name;
+        self.guard(func, self.dialect.set_state.allowed)?;
         self.model
             .restore(&s.model)
             .map_err(|error| FmuError::Model { func, error })?;
@@ -506,8 +560,14 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
-    /// Serialized form of a state: sealed with magic, version, GUID and checksum.
+    /// Serialized form of a state of the FMI 2.0 FMU ([`Instance::serialize_state_as`]).
     pub fn serialize_state(s: &FmuState<M>) -> Vec<u8> {
+        Self::serialize_state_as(s, &FMI2)
+    }
+
+    /// Serialized form of a state: sealed with magic, version, GUID (with the tag of the FMI
+    /// version, [`Dialect::state_tag`]) and checksum.
+    pub fn serialize_state_as(s: &FmuState<M>, dialect: &Dialect) -> Vec<u8> {
         let mut w = Writer::default();
         w.u32(s.phase.code());
         w.bool(s.experiment.tolerance.is_some());
@@ -516,17 +576,38 @@ impl<M: Model> Instance<M> {
         w.bool(s.experiment.stop.is_some());
         w.f64(s.experiment.stop.unwrap_or(0.0));
         M::write_state(&s.model, &mut w);
-        bytes::seal(variables::GUID, &w.buf)
+        bytes::seal(&state_guid(dialect), &w.buf)
     }
 
-    /// Reads a serialized state and checks it before it is trusted.
+    /// Reads a serialized state of the FMI 2.0 FMU ([`Instance::deserialize_state_as`]).
     ///
     /// # Errors
     /// Foreign, corrupted, incompatible or inconsistent buffer (never panics).
     pub fn deserialize_state(buf: &[u8]) -> Result<FmuState<M>, FmuError<M::Error>> {
-        let func = "fmi2DeSerializeFMUstate";
+        Self::deserialize_state_as(buf, &FMI2)
+    }
+
+    /// Reads a serialized state of the FMI version `dialect` and checks it before it is
+    /// trusted; a state of the other FMI version is refused with a message saying so.
+    ///
+    /// # Errors
+    /// Foreign, corrupted, incompatible or inconsistent buffer (never panics).
+    pub fn deserialize_state_as(
+        buf: &[u8],
+        dialect: &Dialect,
+    ) -> Result<FmuState<M>, FmuError<M::Error>> {
+        let func = dialect.deserialize.name;
         let de = |error: DecodeError| FmuError::Decode { func, error };
-        let payload = bytes::open(variables::GUID, buf).map_err(de)?;
+        if let Some(other) = other_version(buf, dialect) {
+            return Err(de(DecodeError {
+                message: format!(
+                    "this is a state of the FMI {} FMU ({}); the FMI {} FMU ({}) reads only its own states \
+                     (the two are versioned separately)",
+                    other.version, other.fmu_file, dialect.version, dialect.fmu_file
+                ),
+            }));
+        }
+        let payload = bytes::open(&state_guid(dialect), buf).map_err(de)?;
         let mut r = Reader::new(payload);
         let phase = Phase::from_code(r.u32("phase").map_err(de)?).ok_or_else(|| {
             de(DecodeError {
@@ -552,6 +633,23 @@ impl<M: Model> Instance<M> {
         validate(&state).map_err(|message| de(DecodeError { message }))?;
         Ok(state)
     }
+}
+
+/// The GUID a serialized state of `dialect` is sealed with.
+fn state_guid(dialect: &Dialect) -> String {
+    format!("{}{}", variables::GUID, dialect.state_tag)
+}
+
+/// The other FMI version whose state `buf` is (same model and build), if it is one.
+fn other_version(buf: &[u8], dialect: &Dialect) -> Option<&'static Dialect> {
+    let mut r = Reader::new(buf.get(bytes::MAGIC.len()..)?);
+    if buf.get(..bytes::MAGIC.len())? != bytes::MAGIC || r.u32("version").is_err() {
+        return None;
+    }
+    let guid = r.bytes("GUID").ok()?;
+    [&FMI2, &crate::fmi3::FMI3]
+        .into_iter()
+        .find(|d| d.version != dialect.version && guid == state_guid(d).as_bytes())
 }
 
 /// Checks of a deserialized [`FmuState`] before it is trusted (docs/fmu.md "Robustness"):

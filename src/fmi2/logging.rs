@@ -1,9 +1,12 @@
 //! Logging to the master: the log categories of the model description, which of them
-//! fmi2SetDebugLogging enabled, and the one function that calls the master's logger with a
-//! message made safe for a printf-style C logger.
+//! SetDebugLogging enabled, and the one function that calls the master's logger (the
+//! FMI 2.0 `fmi2CallbackLogger` with a message made safe for a printf-style C logger, or the
+//! FMI 3.0 `fmi3LogMessageCallback`). Version-neutral: the status is [`Status`].
 
+use super::model::Status;
 use super::types::{Fmi2CallbackLogger, Fmi2ComponentEnvironment, Fmi2Status};
 use super::variables::LOG_CATEGORIES;
+use crate::fmi3::types::{Fmi3InstanceEnvironment, Fmi3LogMessageCallback, Fmi3Status};
 use std::ffi::CString;
 
 /// Log categories (same order as in the model description's LogCategories).
@@ -45,11 +48,25 @@ pub fn escape_message(s: &str) -> CString {
     CString::new(out).unwrap_or_default()
 }
 
+/// The master's callback, in the shape of its FMI version.
+#[derive(Debug, Clone, Copy)]
+pub enum Sink {
+    /// `fmi2CallbackLogger` (variadic, the message is a printf format) and the
+    /// componentEnvironment.
+    Fmi2(Fmi2CallbackLogger, Fmi2ComponentEnvironment),
+    /// `fmi3LogMessageCallback` (the message is plain text) and the instanceEnvironment.
+    Fmi3(Fmi3LogMessageCallback, Fmi3InstanceEnvironment),
+}
+
+/// Only '\0' -> "\0" (FMI 3.0: the message is not a format string).
+fn escape_nul(s: &str) -> CString {
+    CString::new(s.replace('\0', "\\0")).unwrap_or_default()
+}
+
 /// The master's logger for one instance, with the enabled categories.
 pub struct Logger {
     name: CString,
-    callback: Fmi2CallbackLogger,
-    env: Fmi2ComponentEnvironment,
+    sink: Sink,
     categories: [bool; 4],
     categories_at_instantiate: [bool; 4],
 }
@@ -57,16 +74,10 @@ pub struct Logger {
 impl Logger {
     /// The logger of instance `name` (passed to the callback as it came: only the message
     /// is a printf format).
-    pub fn new(
-        name: &str,
-        callback: Fmi2CallbackLogger,
-        env: Fmi2ComponentEnvironment,
-        logging_on: bool,
-    ) -> Logger {
+    pub fn new(name: &str, sink: Sink, logging_on: bool) -> Logger {
         Logger {
             name: CString::new(name).unwrap_or_else(|_| escape_message(name)),
-            callback,
-            env,
+            sink,
             categories: [logging_on; 4],
             categories_at_instantiate: [logging_on; 4],
         }
@@ -74,29 +85,36 @@ impl Logger {
 
     /// Sends a message to the master's logger. Errors, discards and warnings (the reason
     /// for a status other than OK) are always sent; other messages only when their category
-    /// is enabled by fmi2SetDebugLogging.
-    pub fn log(&self, status: Fmi2Status, category: Category, msg: &str) {
-        let forced = matches!(
-            status,
-            Fmi2Status::Error | Fmi2Status::Fatal | Fmi2Status::Discard | Fmi2Status::Warning
-        );
+    /// is enabled by SetDebugLogging.
+    pub fn log(&self, status: Status, category: Category, msg: &str) {
+        let forced = status != Status::OK;
         if !forced && !self.categories[category as usize] {
             return;
         }
-        if let Some(logger) = self.callback {
-            let cat = escape_message(category.name());
-            let m = escape_message(msg);
-            // SAFETY: the master's callback with NUL-terminated strings that outlive the call;
-            // the message contains no '%' conversion, so a printf-style logger reads no varargs.
-            unsafe {
-                logger(
-                    self.env,
-                    self.name.as_ptr(),
-                    status,
-                    cat.as_ptr(),
-                    m.as_ptr(),
-                )
-            };
+        let cat = escape_message(category.name());
+        match self.sink {
+            Sink::Fmi2(Some(logger), env) => {
+                let m = escape_message(msg);
+                // SAFETY: the master's callback with NUL-terminated strings that outlive the
+                // call; the message contains no '%' conversion, so a printf-style logger reads
+                // no varargs.
+                unsafe {
+                    logger(
+                        env,
+                        self.name.as_ptr(),
+                        Fmi2Status::from(status),
+                        cat.as_ptr(),
+                        m.as_ptr(),
+                    )
+                };
+            }
+            Sink::Fmi3(Some(logger), env) => {
+                let m = escape_nul(msg);
+                // SAFETY: the master's callback with NUL-terminated strings that outlive the
+                // call.
+                unsafe { logger(env, Fmi3Status::from(status), cat.as_ptr(), m.as_ptr()) };
+            }
+            Sink::Fmi2(None, _) | Sink::Fmi3(None, _) => {}
         }
     }
 
@@ -105,7 +123,7 @@ impl Logger {
         self.categories[category as usize]
     }
 
-    /// fmi2SetDebugLogging: FMI 2.0 (2.1.5): loggingOn with categories logs only those
+    /// SetDebugLogging: FMI 2.0 (2.1.5), FMI 3.0 the same: loggingOn with categories logs only those
     /// categories; loggingOn = false switches the listed ones off and leaves the others.
     ///
     /// # Errors
@@ -135,7 +153,7 @@ impl Logger {
         Ok(())
     }
 
-    /// fmi2Reset: the categories as at fmi2Instantiate.
+    /// Reset: the categories as at instantiation.
     pub fn reset(&mut self) {
         self.categories = self.categories_at_instantiate;
     }

@@ -1,5 +1,8 @@
 //! The contract between the model-agnostic FMI layer ([`super::instance::Instance`]) and
-//! one model (in the spirit of the Reference FMUs' `model.h`).
+//! one model (in the spirit of the Reference FMUs' `model.h`). It is version-neutral: the
+//! FMI 2.0 shell (`crate::c_abi`) and the FMI 3.0 shell (`crate::c_abi3`, through
+//! `crate::fmi3`) drive the same model through it; function names reach the model only as
+//! the `func` of a call, for its messages.
 //!
 //! The FMI layer owns the state machine, the argument checks (value references, types,
 //! causality and variability, finite values, Enumeration items, declared bounds), logging,
@@ -10,12 +13,41 @@
 
 use super::error::ModelError;
 use super::logging::Logger;
-use super::state_machine::Phase;
-use super::types::Fmi2Status;
 use super::variables::Variable;
 use crate::bytes::{Reader, Writer};
 
-/// The experiment of fmi2SetupExperiment.
+/// The phase of an instance as the model sees it (defined with the state machine, which
+/// both FMI versions share: FMI 3.0's Step Mode and Step Discarded are
+/// [`Phase::StepComplete`] and [`Phase::StepFailed`]).
+pub use super::state_machine::Phase;
+
+/// The status of an FMI call, in words common to FMI 2.0 and 3.0 (`fmi2Status` and
+/// `fmi3Status` have the same first five values); each C shell converts it to its own type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Status {
+    /// fmi2OK / fmi3OK
+    OK = 0,
+    /// fmi2Warning / fmi3Warning
+    Warning = 1,
+    /// fmi2Discard / fmi3Discard
+    Discard = 2,
+    /// fmi2Error / fmi3Error
+    Error = 3,
+    /// fmi2Fatal / fmi3Fatal
+    Fatal = 4,
+}
+
+/// How a doStep ended when the master allowed it to end early (FMI 3.0 early return).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepEnd {
+    /// OK or Warning (the model logged why).
+    pub status: Status,
+    /// `Some(t)`: the step ended early at `t` at an event of the model (the model time is
+    /// `t`); `None`: it reached the end of the communication step.
+    pub early_return: Option<f64>,
+}
+
+/// The experiment: fmi2SetupExperiment, or the arguments of fmi3EnterInitializationMode.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Experiment {
     /// The master's tolerance (clamped into [`Model::TOLERANCE_RANGE`]), if defined.
@@ -27,7 +59,7 @@ pub struct Experiment {
 }
 
 impl Experiment {
-    /// Before fmi2SetupExperiment (and after fmi2Reset).
+    /// Before the experiment is set (and after a reset).
     pub const DEFAULT: Experiment = Experiment {
         tolerance: None,
         start: 0.0,
@@ -44,23 +76,29 @@ pub trait Model: Sized {
     /// The model's part of an FMU state: plain data, no pointers.
     type State: Clone;
     /// The range of relative tolerances the model's solver supports; a tolerance of
-    /// fmi2SetupExperiment outside it is clamped into it with a warning.
+    /// the experiment outside it is clamped into it with a warning.
     const TOLERANCE_RANGE: (f64, f64);
     /// The name of the model's relative-tolerance parameter that the experiment's
     /// tolerance stands in for (for messages).
     const TOLERANCE_NAME: &'static str;
 
-    /// The model with every variable at its start value (fmi2Instantiate, fmi2Reset).
+    /// The model with every variable at its start value (instantiate, reset).
     fn instantiate() -> Self;
-    /// Parameters, inputs or the experiment may have changed (fmi2SetupExperiment,
-    /// fmi2EnterInitializationMode): whatever was built from them is stale.
+    /// Parameters, inputs or the experiment may have changed (experiment set, initialization
+    /// mode entered): whatever was built from them is stale.
     fn invalidate(&mut self);
-    /// fmi2ExitInitializationMode: check the parameters and compute the initial state.
+    /// Exit initialization mode: check the parameters and compute the initial state.
     ///
     /// # Errors
     /// The model's reason (invalid parameters, no consistent initial state).
-    fn exit_initialization(&mut self, exp: &Experiment, log: &Logger) -> Result<(), Self::Error>;
-    /// fmi2Terminate (e.g. log totals).
+    /// `func` is the FMI function, for messages.
+    fn exit_initialization(
+        &mut self,
+        func: &'static str,
+        exp: &Experiment,
+        log: &Logger,
+    ) -> Result<(), Self::Error>;
+    /// Terminate (e.g. log totals).
     fn terminate(&self, log: &Logger);
     /// The value of `var` (any causality); `phase` tells whether it is computed from
     /// parameters that may still change (initialization mode).
@@ -80,7 +118,7 @@ pub trait Model: Sized {
     /// # Errors
     /// The model refuses the value (its own rules).
     fn set(&mut self, var: &'static Variable, x: f64, stepping: bool) -> Result<(), Self::Error>;
-    /// Sets the first time derivative of an input (fmi2SetRealInputDerivatives, order 1).
+    /// Sets the first time derivative of an input (fmi2SetRealInputDerivatives, order 1; FMI 3.0 has no such function).
     ///
     /// # Errors
     /// The model refuses it.
@@ -95,12 +133,36 @@ pub trait Model: Sized {
     /// # Errors
     /// Not available (e.g. not initialised).
     fn output_derivatives(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), Self::Error>;
-    /// fmi2DoStep from `t` over `h` (the FMI layer checked the call sequence and stopTime).
-    /// Returns OK or Warning (the model logged why).
+    /// doStep from `t` over `h` (the FMI layer checked the call sequence and stopTime);
+    /// `func` is the FMI function, for messages. Returns OK or Warning (the model logged why).
     ///
     /// # Errors
     /// The model's reason; [`ModelError::is_discard`] decides Discard or Error.
-    fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<Fmi2Status, Self::Error>;
+    fn do_step(
+        &mut self,
+        func: &'static str,
+        t: f64,
+        h: f64,
+        log: &Logger,
+    ) -> Result<Status, Self::Error>;
+    /// A doStep that may end early at an event of the model (FMI 3.0 `earlyReturnAllowed`):
+    /// where [`Model::do_step`] would only report the event (with a warning), it stops
+    /// there instead. The default never returns early.
+    ///
+    /// # Errors
+    /// As [`Model::do_step`].
+    fn do_step_until_event(
+        &mut self,
+        func: &'static str,
+        t: f64,
+        h: f64,
+        log: &Logger,
+    ) -> Result<StepEnd, Self::Error> {
+        self.do_step(func, t, h, log).map(|status| StepEnd {
+            status,
+            early_return: None,
+        })
+    }
     /// Accepted deviation of the communication point from the model time for a step `h`.
     fn step_tolerance(t: f64, h: f64) -> f64;
     /// The model time, if the model runs.

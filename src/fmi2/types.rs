@@ -45,6 +45,19 @@ pub enum Fmi2Status {
     Pending = 5,
 }
 
+impl From<crate::fmi2::model::Status> for Fmi2Status {
+    fn from(s: crate::fmi2::model::Status) -> Self {
+        use crate::fmi2::model::Status as S;
+        match s {
+            S::OK => Fmi2Status::OK,
+            S::Warning => Fmi2Status::Warning,
+            S::Discard => Fmi2Status::Discard,
+            S::Error => Fmi2Status::Error,
+            S::Fatal => Fmi2Status::Fatal,
+        }
+    }
+}
+
 /// `fmi2Type`: fmi2ModelExchange = 0, fmi2CoSimulation = 1 (received as int, never as a
 /// Rust enum, so an out-of-range value from C is not undefined behaviour).
 pub const FMI2_CO_SIMULATION: c_int = 1;

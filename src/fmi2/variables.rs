@@ -82,6 +82,11 @@ include!(concat!(env!("OUT_DIR"), "/variables_gen.rs"));
 pub const MODEL_DESCRIPTION_XML: &str =
     include_str!(concat!(env!("OUT_DIR"), "/modelDescription.xml"));
 
+/// The FMI 3.0 model description generated from the same source (build.rs,
+/// `build/fmi3_description.rs`), byte for byte what goes into the FMI 3.0 .fmu.
+pub const MODEL_DESCRIPTION_XML_FMI3: &str =
+    include_str!(concat!(env!("OUT_DIR"), "/modelDescription3.xml"));
+
 /// The table row of a variable.
 pub fn variable(var: Var) -> &'static Variable {
     // The enum is generated in table order, so the discriminant is the position.

@@ -62,12 +62,22 @@ class LogRecord:
                f"{self.category}: {self.message}"
 
 
+# FMI 3.0 type names as the FMI 2.0 ones the suite uses (GearedRotor-fmi3.fmu has the same
+# variables; helpers/fmi3_compat.py maps the calls).
+FMI3_TYPES = {"Float64": "Real", "Int32": "Integer"}
+
+
 class FmuPackage:
-    """The extracted .fmu and its model description (extract once, instantiate often)."""
+    """The extracted .fmu and its model description (extract once, instantiate often).
+    Either version: `fmi3` says which."""
 
     def __init__(self, fmu_path: Path, unzip_dir: Path | None = None):
         self.fmu_path = Path(fmu_path)
         self.md = read_model_description(str(self.fmu_path))
+        self.fmi3 = self.md.fmiVersion.startswith("3")
+        if self.fmi3:
+            for v in self.md.modelVariables:
+                v.type = FMI3_TYPES.get(v.type, v.type)
         if unzip_dir is None:
             unzip_dir = Path(extract(str(self.fmu_path)))
         self.unzip_dir = Path(unzip_dir)
@@ -76,6 +86,16 @@ class FmuPackage:
         self.real_outputs = [v.name for v in self.outputs if v.type == "Real"]
         self.int_outputs = [v.name for v in self.outputs if v.type == "Integer"]
         self.bool_outputs = [v.name for v in self.outputs if v.type == "Boolean"]
+
+    def fmi_name(self, fmi2_name: str) -> str:
+        """The name of an FMI 2.0 function in this package's FMI version (for messages)."""
+        if not self.fmi3:
+            return fmi2_name
+        special = {"fmi2DeSerializeFMUstate": "fmi3DeserializeFMUState",
+                   "fmi2GetFMUstate": "fmi3GetFMUState", "fmi2SetFMUstate": "fmi3SetFMUState",
+                   "fmi2GetReal": "fmi3GetFloat64", "fmi2SetReal": "fmi3SetFloat64",
+                   "fmi2SetupExperiment": "fmi3EnterInitializationMode"}
+        return special.get(fmi2_name, fmi2_name.replace("fmi2", "fmi3", 1))
 
     def vr(self, name: str) -> int:
         return self.vars[name].valueReference
@@ -99,6 +119,25 @@ class Instance:
         self.pkg = pkg
         self.name = name
         self.log: list[LogRecord] = []
+        if pkg.fmi3:
+            from helpers.fmi3_compat import Fmi3Slave
+
+            self.slave = Fmi3Slave(
+                enumerations={v.valueReference for v in pkg.md.modelVariables
+                              if v.type == "Enumeration"},
+                guid=pkg.md.guid,
+                unzipDirectory=str(pkg.unzip_dir),
+                modelIdentifier=pkg.md.coSimulation.modelIdentifier,
+                instanceName=name,
+            )
+            self.slave.instantiate(
+                loggingOn=logging_on,
+                logMessage=lambda env, status, cat, msg: self._logger(
+                    env, name.encode(), status, cat, msg),
+            )
+            self.time = 0.0
+            self.freed = False
+            return
         self.slave = FMU2Slave(
             guid=pkg.md.guid,
             unzipDirectory=str(pkg.unzip_dir),

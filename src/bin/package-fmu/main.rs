@@ -1,4 +1,5 @@
-//! Builds `target/fmu/GearedRotor.fmu`: `cargo run --release --bin package-fmu`.
+//! Builds `target/fmu/GearedRotor.fmu` (FMI 2.0) and `target/fmu/GearedRotor-fmi3.fmu`
+//! (FMI 3.0): `cargo run --release --bin package-fmu`.
 //!
 //! Steps:
 //! 1. `cargo build --release --lib` (a no-op when the cdylib is fresh), so this one command
@@ -13,13 +14,17 @@
 //!    `GearedRotor_in.csv` / `GearedRotor_ref.csv` of `data/reference_run/`. Fixed
 //!    timestamps (1980-01-01) and file order, so the same commit gives the same archive
 //!    bytes for the same .so.
+//! 4. writes the FMI 3.0 archive the same way: the FMI 3.0 `modelDescription.xml` that
+//!    build.rs generated from the same source (`build/fmi3_description.rs`), the same
+//!    shared library under the 3.0 platform tuple, `binaries/x86_64-linux/` (it exports the `fmi3*` functions beside the `fmi2*` ones), the same
+//!    documentation with an index.html that names FMI 3.0.
 
 mod build_date;
 mod description;
 mod figures;
 mod index_html;
 
-use geared_rotor::fmi2::variables::{GUID, MODEL_DESCRIPTION_XML};
+use geared_rotor::fmi2::variables::{GUID, MODEL_DESCRIPTION_XML, MODEL_DESCRIPTION_XML_FMI3};
 use geared_rotor::gear::{GearData, PairGeometry};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -51,7 +56,7 @@ fn contains(hay: &[u8], needle: &[u8]) -> bool {
     hay.windows(needle.len()).any(|w| w == needle)
 }
 
-fn run() -> Result<PathBuf, String> {
+fn run() -> Result<(PathBuf, PathBuf), String> {
     let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let status = Command::new(&cargo)
@@ -83,8 +88,12 @@ fn run() -> Result<PathBuf, String> {
         date_source: epoch.map(|(_, s)| s).unwrap_or(""),
         guid: GUID,
     };
+    let xml3 = build_date::with_generation_date(MODEL_DESCRIPTION_XML_FMI3, date.as_deref());
+    // The FMI 3.0 index.html: the same document, naming the version of its archive.
+    let mut md3 = md.clone();
+    md3.model.insert("fmiVersion".into(), "3.0".into());
     let text = |s: &str| s.as_bytes().to_vec();
-    let files: Vec<(&str, Vec<u8>, u32)> = vec![
+    let mut files: Vec<(&str, Vec<u8>, u32)> = vec![
         ("modelDescription.xml", xml.clone().into_bytes(), 0o644),
         ("binaries/linux64/GearedRotor.so", so, 0o755),
         (
@@ -126,8 +135,24 @@ fn run() -> Result<PathBuf, String> {
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
-    let out = out_dir.join("GearedRotor.fmu");
-    let tmp = out_dir.join("GearedRotor.fmu.tmp");
+    let out = write_fmu(&out_dir, "GearedRotor.fmu", &files)?;
+    files[0].1 = xml3.into_bytes();
+    // FMI 3.0 names the platform by its tuple (section 2.5.1.2).
+    files[1].0 = "binaries/x86_64-linux/GearedRotor.so";
+    files[2].1 = index_html::document(&md3, &geom, &info).into_bytes();
+    let out3 = write_fmu(&out_dir, "GearedRotor-fmi3.fmu", &files)?;
+    Ok((out, out3))
+}
+
+/// Writes `files` into the archive `out_dir/name` (through a temporary file, renamed when
+/// complete), with fixed timestamps and in the given order.
+fn write_fmu(
+    out_dir: &Path,
+    name: &str,
+    files: &[(&str, Vec<u8>, u32)],
+) -> Result<PathBuf, String> {
+    let out = out_dir.join(name);
+    let tmp = out_dir.join(format!("{name}.tmp"));
     let file =
         std::fs::File::create(&tmp).map_err(|e| format!("cannot create {}: {e}", tmp.display()))?;
     let mut zip = ZipWriter::new(file);
@@ -149,8 +174,12 @@ fn run() -> Result<PathBuf, String> {
 
 fn main() -> ExitCode {
     match run() {
-        Ok(p) => {
+        Ok((p, p3)) => {
             println!("wrote {} (GUID {GUID})", p.display());
+            println!(
+                "wrote {} (FMI 3.0, instantiationToken {GUID})",
+                p3.display()
+            );
             ExitCode::SUCCESS
         }
         Err(e) => {
