@@ -3,21 +3,24 @@
 //! the rigid model does not use it (the FMU reports it as `c_gamma_used`).
 //!
 //! Source: ISO 6336-1 (Calculation of load capacity of spur and helical gears, part 1),
-//! clause 9 "tooth stiffness parameters", method B. The formulas and the nine
-//! coefficients below are those of that clause as used in the 2006 and 2019 editions;
-//! we could not check the 2019 edition's text itself, so the equation numbers of the
-//! standard are not quoted and the clause is named only. The values are checked against
-//! calculation example 1 of ISO/TR 6336-30:2017 (tests/gear_stiffness.rs).
+//! clause 9 "tooth stiffness parameters", method B. We know the formulas and the nine
+//! coefficients from the standard's method B as it has long been published and from
+//! their reproduction of calculation example 1 of ISO/TR 6336-30:2017 (printed digits
+//! of z_n, c'_th and c', tests/gear_stiffness.rs); we could not check the text of the
+//! 2019 edition itself, so the standard's equation numbers are not quoted, only the
+//! clause.
 //!
 //! Units: the standard states the stiffnesses in N/(mm um) and the flexibility q' in
-//! mm um/N; this module returns SI (N/m^2 for stiffness per unit face width, m^2/N for
-//! the flexibility). 1 N/(mm um) = 1e9 N/m^2 ([`N_PER_MM_UM`]).
+//! mm um/N. [`flexibility_mm_um_per_n`] keeps the standard's unit; every stiffness this
+//! module returns is SI, N/m^2 per unit face width: 1 N/(mm um) = 1e9 N/m^2
+//! ([`N_PER_MM_UM`]).
 //!
-//! What method B leaves out, and so does this module: the load dependence of c' below
-//! a line load F_t K_A / b of 100 N/mm (the standard scales c' by
-//! `(F_t K_A / b / 100)^0.25` there), gear blanks that are not solid (C_R < 1), pinion
-//! and wheel on different basic racks (the standard averages C_B of both; here both
-//! gears share one rack) and materials other than steel on steel.
+//! Left out here (method B has them or allows them): the load dependence of c' below a
+//! line load F_t K_A / b of 100 N/mm (as far as we know the standard scales c' by
+//! `(F_t K_A / b / 100)^0.25` there; the elastic contact wants a load-independent
+//! stiffness), gear blanks that are not solid (C_R < 1), pinion and wheel cut with
+//! different basic racks (the standard averages C_B of both; here both gears share one
+//! rack) and materials other than steel on steel.
 
 use super::geometry::PairGeometry;
 
