@@ -52,6 +52,7 @@ fn c40(law: FrictionLaw) -> Params {
         x2: 0.1715,
         ha_coef: 1.0,
         a_w: 91.5e-3,
+        ..GearData::default()
     };
     p.friction.eta_oil = 49.85e-3;
     p.friction.ra = 0.5 * (0.4 + 0.31) * 1e-6;

@@ -67,6 +67,7 @@ fn petry_johnson_gear() -> Params {
         x2: x,
         ha_coef: 1.0,
         a_w: 91.5e-3,
+        ..GearData::default()
     };
     p.friction.eta_oil = 10.6e-3;
     p.friction.ra = 2f64.sqrt() * 0.07e-6;

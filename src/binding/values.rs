@@ -5,7 +5,7 @@
 use crate::fmi2::model::Experiment;
 use crate::fmi2::variables::{self, Var, N_VARIABLES, VARIABLES};
 use crate::gear::friction::iso_mean;
-use crate::gear::PairGeometry;
+use crate::gear::{stiffness, PairGeometry};
 use crate::parameter::ParamError;
 use crate::rotor::params::SolidBodies;
 use crate::rotor::{param_table, GearedRotor, Outputs, Params};
@@ -205,7 +205,7 @@ pub fn output_values(o: &Outputs, v: &mut Values) {
     v[Var::M_contact2_z as usize] = o.m_contact2[2];
 }
 
-/// Value of a calculated parameter from the pair geometry (model.md §2, §5, §9.7).
+/// Value of a calculated parameter from the pair geometry (model.md §2, §2.1, §5, §9.7).
 pub fn calculated_value(g: &PairGeometry, var: Var) -> Option<f64> {
     let solid = || SolidBodies::of(g);
     Some(match var {
@@ -229,6 +229,7 @@ pub fn calculated_value(g: &PairGeometry, var: Var) -> Option<f64> {
         Var::eps_alpha => g.eps_alpha,
         Var::eps_beta => g.eps_beta,
         Var::H_V => g.h_v,
+        Var::c_gamma_used => stiffness::c_gamma_used(g),
         _ => return None,
     })
 }

@@ -33,6 +33,12 @@ pub struct GearData {
     pub ha_coef: f64,
     /// Operating centre distance; 0 = derive from x1 + x2.
     pub a_w: f64,
+    /// Dedendum coefficient h_fP* of the basic rack (1.25); used only by the mesh
+    /// stiffness of ISO 6336-1 ([`super::stiffness`]), not by the rigid model.
+    pub h_fp: f64,
+    /// Mean mesh stiffness per unit face width c_gamma in N/m^2; 0 = from ISO 6336-1
+    /// ([`super::stiffness`]). Reported only until the elastic contact (issue 27).
+    pub c_gamma: f64,
 }
 
 /// 20 degrees in rad, as `20f64.to_radians()` computes it.
@@ -44,7 +50,7 @@ const BELOW_45_DEG: f64 = 0.785_398_163_397_448_2;
 /// automotive-size helical pair of `model.md` §10, declared bounds); their rules are
 /// those of [`PairGeometry::new`].
 #[rustfmt::skip]
-pub static GEAR_PARAMETERS: [Parameter<GearData>; 10] = [
+pub static GEAR_PARAMETERS: [Parameter<GearData>; 12] = [
     gear_param("z1", "", Kind::Integer, 27.0, Some(5.0), None, |g| f64::from(g.z1), |g, x| g.z1 = x as i32),
     gear_param("z2", "", Kind::Integer, 41.0, Some(5.0), None, |g| f64::from(g.z2), |g, x| g.z2 = x as i32),
     gear_param("m_n", "m", Kind::Real, 2.0e-3, Some(1e-300), None, |g| g.m_n, |g, x| g.m_n = x),
@@ -55,6 +61,8 @@ pub static GEAR_PARAMETERS: [Parameter<GearData>; 10] = [
     gear_param("x2", "1", Kind::Real, 0.0, None, None, |g| g.x2, |g, x| g.x2 = x),
     gear_param("h_aP", "1", Kind::Real, 1.0, Some(1e-300), None, |g| g.ha_coef, |g, x| g.ha_coef = x),
     gear_param("a_w_set", "m", Kind::Real, 0.0, Some(0.0), None, |g| g.a_w, |g, x| g.a_w = x),
+    gear_param("h_fP", "1", Kind::Real, 1.25, Some(1e-300), None, |g| g.h_fp, |g, x| g.h_fp = x),
+    gear_param("c_gamma", "N/m2", Kind::Real, 0.0, Some(0.0), None, |g| g.c_gamma, |g, x| g.c_gamma = x),
 ];
 
 #[allow(clippy::too_many_arguments)]
@@ -95,6 +103,8 @@ impl Default for GearData {
             x2: 0.0,
             ha_coef: 0.0,
             a_w: 0.0,
+            h_fp: 0.0,
+            c_gamma: 0.0,
         };
         for p in &GEAR_PARAMETERS {
             (p.put)(&mut g, p.default);
@@ -215,7 +225,8 @@ impl PairGeometry {
     ///
     /// # Errors
     /// A [`ParamError`] naming the first violated rule of §2: `z_j >= 5`, `m_n > 0`,
-    /// `0 < alpha_n < 45 deg`, `|beta| < 45 deg`, `b > 0`, `h_aP > 0`, finite shifts,
+    /// `0 < alpha_n < 45 deg`, `|beta| < 45 deg`, `b > 0`, `h_aP > 0`, `h_fP > 0`,
+    /// `c_gamma >= 0` (the stiffness parameters of `model.md` §2.1), finite shifts,
     /// `r_aj > r_bj`, a valid working pressure angle (`x1+x2` resp. `a_w > r_b1 + r_b2`),
     /// `0 <= sigma_A < sigma_E <= a_w sin alpha_wt`, `eps_alpha + eps_beta > 1`, and
     /// (buffer bound of the contact-line loop) `eps_alpha + eps_beta <= 60`. For the
@@ -260,6 +271,18 @@ impl PairGeometry {
         }
         if !(d.ha_coef > 0.0 && d.ha_coef.is_finite()) {
             return Err(err("h_aP", d.ha_coef, "0 < h_aP < inf".into()));
+        }
+        // The two stiffness parameters (`stiffness`): not used by the rigid model, but a
+        // set the elastic contact could not use is refused now.
+        if !(d.h_fp > 0.0 && d.h_fp.is_finite()) {
+            return Err(err("h_fP", d.h_fp, "0 < h_fP < inf".into()));
+        }
+        if !(d.c_gamma >= 0.0 && d.c_gamma.is_finite()) {
+            return Err(err(
+                "c_gamma",
+                d.c_gamma,
+                "c_gamma >= 0 (0 = from ISO 6336-1)".into(),
+            ));
         }
         if !d.x1.is_finite() {
             return Err(err("x1", d.x1, "x1 finite".into()));
