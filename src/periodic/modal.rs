@@ -48,11 +48,18 @@ pub const STATE_NAMES: [&str; 7] = [
 pub struct ModalOptions {
     /// RADAU5 relative tolerance of the period integrations of the monodromy matrix.
     pub rtol: f64,
-    /// Difference step of the central-difference monodromy, relative to
-    /// [`PeriodicSystem::scales`]. Central differences cancel the curvature of the period
-    /// map; 1e-3 (~1e-8 m for the default pair) keeps the steps far above the integration
-    /// noise (rtol 1e-13 of ~1e-5 m per step) and inside the linear range of the orbit.
+    /// Difference step of the central-difference monodromy with friction, relative to
+    /// [`PeriodicSystem::scales`]. Coulomb friction makes the period map's derivative an
+    /// amplitude limit: near the pitch line, where the sliding speed is smaller than the
+    /// perturbation's, the direction `v / |v|` saturates, and the differenced multipliers
+    /// move in proportion to the step (default pair, largest |rho|: 0.89985, 0.89375,
+    /// 0.89058, 0.89061, 0.89062 at 1e-2 .. 1e-6). 1e-5 (~1e-10 m) is inside that limit to
+    /// ~3e-5 and still above the integration noise.
     pub fd_step: f64,
+    /// The step without friction (law 1 or 2 with mu = 0): the period map is smooth, and
+    /// 1e-3 (~1e-8 m) puts the integration noise at ~1e-9 of the multipliers (1e-5 leaves
+    /// ~1e-6).
+    pub fd_step_frictionless: f64,
     /// Shooting's Newton tolerance (scaled residual) for the orbit.
     pub shooting_tol: f64,
 }
@@ -61,7 +68,8 @@ impl Default for ModalOptions {
     fn default() -> Self {
         ModalOptions {
             rtol: 1e-13,
-            fd_step: 1e-3,
+            fd_step: 1e-5,
+            fd_step_frictionless: 1e-3,
             shooting_tol: 1e-9,
         }
     }
@@ -351,7 +359,12 @@ pub fn modal_analysis(
     };
     let z = sh.z;
     let (_, stats) = sys.integrate(&z, 1, opts.rtol, None)?;
-    let m = central_monodromy(&mut sys, &z, opts.fd_step, opts.rtol)?;
+    let step = if sys.model().coulomb_mu() == Some(0.0) {
+        opts.fd_step_frictionless
+    } else {
+        opts.fd_step
+    };
+    let m = central_monodromy(&mut sys, &z, step, opts.rtol)?;
     let floq = eigen(&m);
     let t = sys.period();
     let band = PI / t;
