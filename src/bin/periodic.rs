@@ -2,7 +2,7 @@
 //! by the n-th order harmonic approach, n = 1..12; reproduces the paper's Fig. 3.
 //!
 //! Usage: `cargo run --release --bin periodic -- [--params FILE] [--omega1 W] [--t-load T]
-//! [--out DIR] [--n-max N] [--json] [--damping]`
+//! [--out DIR] [--n-max N] [--json] [--damping] [--ignore-unknown]`
 //!
 //! FILE holds `name = value` lines with the FMU's parameter names in SI units (rad for
 //! angles), e.g. `mu = 0.1` or `k1.x = 1e9`, and may set the constant inputs `omega1`
@@ -10,6 +10,9 @@
 //! `out/periodic`): `shooting_orbit.csv`, `harmonic_orbit_n4.csv`, `convergence.csv`,
 //! `floquet.csv`, `fig3.svg`. With `--json` the last line printed is one JSON object
 //! `{"shooting_residual": .., "floquet_max_abs": .., "hb": [{"n": 1, "max_rel_dev": ..}, ..]}`.
+//!
+//! With `--ignore-unknown`, names in FILE that are no model parameter (FMU settings such as
+//! `initialization`) are skipped instead of refused (gearstudy passes a point's values so).
 //!
 //! With `--damping` it computes the modal damping of the periodic orbit instead
 //! (`periodic::modal`, `docs/damping.md`): a table of the modes (name, frequency, damping
@@ -57,12 +60,14 @@ fn parse_args() -> Result<Args, String> {
         json: false,
         damping: false,
     };
+    let ignore_unknown = std::env::args().any(|a| a == "--ignore-unknown");
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
         let mut value = |what: &str| it.next().ok_or_else(|| format!("{arg} needs {what}"));
         match arg.as_str() {
             "--json" => a.json = true,
             "--damping" => a.damping = true,
+            "--ignore-unknown" => {}
             "--out" => a.out = PathBuf::from(value("a directory")?),
             "--omega1" => {
                 a.omega1 = value("a speed in rad/s")?
@@ -97,6 +102,7 @@ fn parse_args() -> Result<Args, String> {
                     match k.trim() {
                         "omega1" => a.omega1 = v,
                         "T_load" => a.t_load = v,
+                        name if ignore_unknown && param_table::by_name(name).is_none() => {}
                         name => set_param(&mut a.params, name, v)
                             .map_err(|e| format!("{path}:{}: {e}", no + 1))?,
                     }
@@ -104,7 +110,7 @@ fn parse_args() -> Result<Args, String> {
             }
             "-h" | "--help" => {
                 return Err(
-                    "usage: periodic [--params FILE] [--omega1 W] [--t-load T] [--out DIR] [--n-max N] [--json] [--damping]"
+                    "usage: periodic [--params FILE] [--omega1 W] [--t-load T] [--out DIR] [--n-max N] [--json] [--damping] [--ignore-unknown]"
                         .into(),
                 )
             }
