@@ -332,7 +332,7 @@ pub fn reference(
 /// Modal damping of the periodic orbit of `params` at the constant drive speed `omega1`
 /// [rad/s] and load torque `t_load` [N m]: the orbit by shooting, the central-difference
 /// monodromy, its eigenvalues and eigenvectors, the branch of each exponent from the
-/// friction-free reference ([`reference`], see the module docs).
+/// friction-free reference ([`reference()`], see the module docs).
 ///
 /// # Errors
 /// Parameter, model or solver errors; shooting that does not converge.
