@@ -72,3 +72,17 @@ def test_damping_for_the_friction_laws_reduced(fmu_path, tmp_path):
 def test_a_missing_damping_program_is_a_message(fmu_path, tmp_path):
     with pytest.raises(StudyError, match="cargo build --release --bin periodic"):
         study_from_dict({"damping": {"program": str(tmp_path / "nothing")}}, fmu=fmu_path)
+
+
+def test_a_doubtful_branch_marks_the_row(fmu_path, tmp_path, monkeypatch):
+    """Above damping.SHIFT_WARN (0.5 of pi/T_m) the row carries a warning; forced here by
+    lowering the threshold below the point's shift (0.03 at 3000 rpm, mu = 0.05)."""
+    from gearstudy import damping
+
+    monkeypatch.setattr(damping, "SHIFT_WARN", 0.0)
+    study = _reduced("damping_mu.toml", {"omega1": ["3000 rpm"], "mu": [0.05]}, fmu_path)
+    sweep(study, out=tmp_path / "r", serial=True, progress=False)
+    (row,) = read_results(tmp_path / "r").to_pylist()
+    assert row["status"] == "Warning"
+    assert "damping: an exponent moved" in row["message"]
+    assert 0.0 < row["damping.shift"] < 0.5

@@ -233,6 +233,12 @@ fn run_damping(a: &Args) -> Result<(), String> {
         "largest exponent shift from the friction-free reference: {:.2e} of pi/T_m (branches unambiguous below 1)",
         r.shift
     );
+    if r.shift > 0.5 {
+        eprintln!(
+            "periodic: warning: an exponent moved {:.2} of pi/T_m from its friction-free value; the frequencies (branches) may be off by multiples of the mesh frequency",
+            r.shift
+        );
+    }
     println!(
         "{:>4}  {:<34} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6}",
         "mode", "name", "f [Hz]", "zeta", "dzeta", "f(mu=0)", "|rho|", "k"

@@ -30,6 +30,8 @@ REPO_PROGRAM = Path("target") / "release" / "periodic"
 FIELDS = (("f", "freq_hz"), ("zeta", "zeta"), ("dzeta", "dzeta"))
 #: inputs the program takes besides the model parameters
 INPUTS = ("omega1", "T_load")
+#: above this move of an exponent (in pi / T_m) the branch resolution is doubtful (at 1 it fails)
+SHIFT_WARN = 0.5
 
 
 def columns(n_modes: int) -> list[tuple[str, str]]:
@@ -71,8 +73,10 @@ def params_text(point: dict, catalog) -> str:
     return "\n".join(lines) + "\n"
 
 
-def modal(point: dict, catalog, program: str, n_modes: int, timeout: float = 600.0) -> dict:
-    """The damping columns of one point; raises RuntimeError with the program's message."""
+def modal(point: dict, catalog, program: str, n_modes: int, warn=lambda msg: None,
+          timeout: float = 600.0) -> dict:
+    """The damping columns of one point; raises RuntimeError with the program's message;
+    `warn(message)` when the branch resolution is doubtful (damping.shift > SHIFT_WARN)."""
     with tempfile.TemporaryDirectory(prefix="gearstudy-damping-") as d:
         pf = Path(d) / "point.txt"
         pf.write_text(params_text(point, catalog))
@@ -85,6 +89,9 @@ def modal(point: dict, catalog, program: str, n_modes: int, timeout: float = 600
         raise RuntimeError(msg[-1] if msg else f"exit status {proc.returncode}")
     data = json.loads(proc.stdout.strip().splitlines()[-1])
     out: dict = {"damping.shift": float(data["shift"])}
+    if out["damping.shift"] > SHIFT_WARN:
+        warn(f"damping: an exponent moved {out['damping.shift']:.2f} of pi/T_m from its "
+             "friction-free value; the mode frequencies may be off by multiples of the mesh frequency")
     modes = data["modes"]
     for i in range(1, n_modes + 1):
         if i <= len(modes):

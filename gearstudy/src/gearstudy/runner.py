@@ -287,7 +287,8 @@ class PointRunner:
             # the modal damping of the point's periodic orbit (damping.py), whatever the run
             try:
                 row.update(damping.modal(point, self.catalog, settings["damping"]["program"],
-                                         settings["damping"]["modes"]))
+                                         settings["damping"]["modes"],
+                                         warn=lambda m: self.log.append((1, "", m))))
             except Exception as e:
                 self.log.append((1, "", f"damping: {type(e).__name__}: {e}"))
         warnings = [m for st, _, m in self.log if st == 1]
