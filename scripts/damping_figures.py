@@ -1,9 +1,9 @@
 """Figures and tables of docs/damping.md from the two damping studies.
 
     source scripts/env.sh
-    $VPY scripts/damping_figures.py            # runs the studies if their results are missing
+    $VPY scripts/damping_figures.py   # runs the studies (again, when the .fmu or the grid changed)
 
-Runs (or resumes) examples/studies/damping_mu.toml and damping_laws.toml with gearstudy into
+Runs (or resumes; reruns when the results are of another .fmu) examples/studies/damping_mu.toml and damping_laws.toml with gearstudy into
 out/damping_mu and out/damping_laws, then writes docs/figures/damping_mu.png (damping ratio
 and the part the friction adds, per mode, against mu, one line per speed),
 docs/figures/damping_laws.png (the same per friction law) and prints the Markdown tables of
@@ -31,8 +31,13 @@ LAW_NAMES = {1: "1 Coulomb", 2: "2 regularised", 3: "3 ISO mean", 4: "4 local EH
 
 def rows_of(name: str) -> list[dict]:
     out = ROOT / "out" / name
-    gearstudy.sweep(str(ROOT / "examples" / "studies" / f"{name}.toml"), out=str(out), serial=True,
-                    progress=False)
+    study = str(ROOT / "examples" / "studies" / f"{name}.toml")
+    try:
+        gearstudy.sweep(study, out=str(out), serial=True, progress=False)
+    except gearstudy.StudyError as e:
+        # results of another build (or grid) in the script's own folder: made again
+        print(f"{name}: {e}; running it again", file=sys.stderr)
+        gearstudy.sweep(study, out=str(out), serial=True, progress=False, overwrite=True)
     rows = gearstudy.read_results(str(out)).to_pylist()
     bad = [r for r in rows if r["status"] not in ("OK", "Warning") or r["mode1.zeta"] is None]
     if bad:
@@ -99,6 +104,11 @@ def figure_laws(rows: list[dict]) -> Path:
     return p
 
 
+def pct(v: float) -> str:
+    """A damping ratio in % with three decimals; a zero that rounds from below prints +0.000."""
+    return f"{100 * v:+.3f}" if abs(v) >= 5e-6 else "+0.000"
+
+
 def tables(mu_rows: list[dict], law_rows: list[dict]) -> str:
     out = []
     names = mode_names(mu_rows)
@@ -107,17 +117,17 @@ def tables(mu_rows: list[dict], law_rows: list[dict]) -> str:
         out.append("| mu | " + " | ".join(f"{i} {names[i - 1]}" for i in range(1, N_MODES + 1)) + " |")
         out.append("|---" * (N_MODES + 1) + "|")
         for r in sorted((r for r in mu_rows if r["omega1"] == w), key=lambda r: r["mu"]):
-            cells = [f"{100 * r[f'mode{i}.zeta']:.3f} ({100 * r[f'mode{i}.dzeta']:+.3f})"
+            cells = [f"{100 * r[f'mode{i}.zeta']:.3f} ({pct(r[f'mode{i}.dzeta'])})"
                      for i in range(1, N_MODES + 1)]
             out.append(f"| {r['mu']:.2f} | " + " | ".join(cells) + " |")
         fr = [r for r in mu_rows if r["omega1"] == w and r["mu"] == 0.0][0]
-        out.append("| f [Hz] | " + " | ".join(f"{fr[f'mode{i}.f']:.1f}" for i in range(1, N_MODES + 1)) + " |")
+        out.append("| f(μ=0) [Hz] | " + " | ".join(f"{fr[f'mode{i}.f']:.1f}" for i in range(1, N_MODES + 1)) + " |")
     out.append("\nFriction laws at the default oil: zeta [%] (added by friction) per mode\n")
     out.append("| rpm | law | mean coefficient | " + " | ".join(f"mode {i}" for i in range(1, N_MODES + 1)) + " |")
     out.append("|---" * (N_MODES + 3) + "|")
     for r in sorted(law_rows, key=lambda r: (r["omega1"], r["friction_law"])):
         mu = r.get("mu_eff.mean")
-        cells = [f"{100 * r[f'mode{i}.zeta']:.3f} ({100 * r[f'mode{i}.dzeta']:+.3f})" for i in range(1, N_MODES + 1)]
+        cells = [f"{100 * r[f'mode{i}.zeta']:.3f} ({pct(r[f'mode{i}.dzeta'])})" for i in range(1, N_MODES + 1)]
         out.append(f"| {r['omega1'] * RPM:.0f} | {LAW_NAMES.get(r['friction_law'], r['friction_law'])} | "
                    f"{mu:.4f} | " + " | ".join(cells) + " |")
     return "\n".join(out)
