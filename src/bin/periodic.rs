@@ -2,7 +2,7 @@
 //! by the n-th order harmonic approach, n = 1..12; reproduces the paper's Fig. 3.
 //!
 //! Usage: `cargo run --release --bin periodic -- [--params FILE] [--omega1 W] [--t-load T]
-//! [--out DIR] [--n-max N] [--json]`
+//! [--out DIR] [--n-max N] [--json] [--damping] [--ignore-unknown]`
 //!
 //! FILE holds `name = value` lines with the FMU's parameter names in SI units (rad for
 //! angles), e.g. `mu = 0.1` or `k1.x = 1e9`, and may set the constant inputs `omega1`
@@ -10,8 +10,20 @@
 //! `out/periodic`): `shooting_orbit.csv`, `harmonic_orbit_n4.csv`, `convergence.csv`,
 //! `floquet.csv`, `fig3.svg`. With `--json` the last line printed is one JSON object
 //! `{"shooting_residual": .., "floquet_max_abs": .., "hb": [{"n": 1, "max_rel_dev": ..}, ..]}`.
+//!
+//! With `--ignore-unknown`, names in FILE that are no model parameter (FMU settings such as
+//! `initialization`) are skipped instead of refused (gearstudy passes a point's values so).
+//!
+//! With `--damping` it computes the modal damping of the periodic orbit instead
+//! (`periodic::modal`, `docs/damping.md`): a table of the modes (name, frequency, damping
+//! ratio, the part the friction adds) and `damping.csv`, `damping.json` in DIR; with `--json`
+//! the last line printed is that JSON object: `{"omega1": .., "T_load": .., "mesh_period": ..,
+//! "shift": .., "floquet_max_abs": .., "modes": [{"mode": 1, "name": .., "freq_hz": ..,
+//! "zeta": .., "dzeta": .., "freq0_hz": .., "zeta0": .., "multiplier_abs": .., "branch": ..},
+//! ..]}`.
 
 use geared_rotor::periodic::harmonic::{harmonic_balance, HarmonicOptions, HarmonicSolution};
+use geared_rotor::periodic::modal::{modal_analysis, ModalOptions};
 use geared_rotor::periodic::shooting::{shoot, ShootingOptions};
 use geared_rotor::periodic::{max_rel_deviation, OrbitPoint, PeriodicSystem};
 use geared_rotor::rotor::{param_table, Params};
@@ -26,6 +38,7 @@ struct Args {
     out: PathBuf,
     n_max: usize,
     json: bool,
+    damping: bool,
 }
 
 /// Sets the parameter `name` (any of the FMU's model parameters, `rotor::param_table`).
@@ -45,12 +58,16 @@ fn parse_args() -> Result<Args, String> {
         out: PathBuf::from("out/periodic"),
         n_max: 12,
         json: false,
+        damping: false,
     };
+    let ignore_unknown = std::env::args().any(|a| a == "--ignore-unknown");
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
         let mut value = |what: &str| it.next().ok_or_else(|| format!("{arg} needs {what}"));
         match arg.as_str() {
             "--json" => a.json = true,
+            "--damping" => a.damping = true,
+            "--ignore-unknown" => {}
             "--out" => a.out = PathBuf::from(value("a directory")?),
             "--omega1" => {
                 a.omega1 = value("a speed in rad/s")?
@@ -85,6 +102,7 @@ fn parse_args() -> Result<Args, String> {
                     match k.trim() {
                         "omega1" => a.omega1 = v,
                         "T_load" => a.t_load = v,
+                        name if ignore_unknown && param_table::by_name(name).is_none() => {}
                         name => set_param(&mut a.params, name, v)
                             .map_err(|e| format!("{path}:{}: {e}", no + 1))?,
                     }
@@ -92,7 +110,7 @@ fn parse_args() -> Result<Args, String> {
             }
             "-h" | "--help" => {
                 return Err(
-                    "usage: periodic [--params FILE] [--omega1 W] [--t-load T] [--out DIR] [--n-max N] [--json]"
+                    "usage: periodic [--params FILE] [--omega1 W] [--t-load T] [--out DIR] [--n-max N] [--json] [--damping] [--ignore-unknown]"
                         .into(),
                 )
             }
@@ -187,7 +205,111 @@ fn fig3_svg(orbit: &[OrbitPoint], dots: &[OrbitPoint], n: usize) -> String {
     s
 }
 
+/// JSON string literal (the mode names are plain ASCII, quotes and backslashes escaped).
+fn json_str(s: &str) -> String {
+    format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+}
+
+fn run_damping(a: &Args) -> Result<(), String> {
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let t0 = std::time::Instant::now();
+    let r = modal_analysis(a.params, a.omega1, a.t_load, &ModalOptions::default())
+        .map_err(|e| e.to_string())?;
+    let rho_max = r
+        .modes
+        .iter()
+        .map(|m| m.multiplier.norm())
+        .fold(0.0, f64::max);
+    println!(
+        "modal damping of the periodic orbit: omega1 = {} rad/s, T_load = {} N m, mu = {}, law {}, T_m = {:.6e} s, {:.2} s",
+        a.omega1,
+        a.t_load,
+        a.params.mu,
+        a.params.friction_law.code(),
+        r.period,
+        t0.elapsed().as_secs_f64()
+    );
+    println!(
+        "largest exponent shift from the friction-free reference: {:.2e} of pi/T_m (branches unambiguous below 1)",
+        r.shift
+    );
+    if r.shift > 0.5 {
+        eprintln!(
+            "periodic: warning: an exponent moved {:.2} of pi/T_m from its friction-free value; the frequencies (branches) may be off by multiples of the mesh frequency",
+            r.shift
+        );
+    }
+    println!(
+        "{:>4}  {:<34} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6}",
+        "mode", "name", "f [Hz]", "zeta", "dzeta", "f(mu=0)", "|rho|", "k"
+    );
+    let mut csv = String::from(
+        "mode,name,freq_hz,zeta,dzeta,freq0_hz,zeta0,re_s,im_s,multiplier_abs,branch\n",
+    );
+    let mut json = Vec::new();
+    for (i, m) in r.modes.iter().enumerate() {
+        println!(
+            "{:>4}  {:<34} {:>10.3} {:>10.6} {:>11.3e} {:>11.3} {:>10.6} {:>6}",
+            i + 1,
+            m.name,
+            m.freq_hz,
+            m.zeta,
+            m.dzeta(),
+            m.freq0_hz,
+            m.multiplier.norm(),
+            m.branch
+        );
+        let _ = writeln!(
+            csv,
+            "{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{}",
+            i + 1,
+            m.name,
+            m.freq_hz,
+            m.zeta,
+            m.dzeta(),
+            m.freq0_hz,
+            m.zeta0,
+            m.s.re,
+            m.s.im,
+            m.multiplier.norm(),
+            m.branch
+        );
+        json.push(format!(
+            "{{\"mode\": {}, \"name\": {}, \"freq_hz\": {:.12e}, \"zeta\": {:.12e}, \"dzeta\": {:.12e}, \"freq0_hz\": {:.12e}, \"zeta0\": {:.12e}, \"multiplier_abs\": {:.12e}, \"branch\": {}}}",
+            i + 1,
+            json_str(&m.name),
+            m.freq_hz,
+            m.zeta,
+            m.dzeta(),
+            m.freq0_hz,
+            m.zeta0,
+            m.multiplier.norm(),
+            m.branch
+        ));
+    }
+    let json = format!(
+        "{{\"omega1\": {:.12e}, \"T_load\": {:.12e}, \"mesh_period\": {:.12e}, \"shift\": {:.6e}, \"floquet_max_abs\": {:.12e}, \"modes\": [{}]}}",
+        a.omega1,
+        a.t_load,
+        r.period,
+        r.shift,
+        rho_max,
+        json.join(", ")
+    );
+    for (name, text) in [("damping.csv", &csv), ("damping.json", &json)] {
+        let p = a.out.join(name);
+        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+    }
+    if a.json {
+        println!("{json}");
+    }
+    Ok(())
+}
+
 fn run(a: &Args) -> Result<(), String> {
+    if a.damping {
+        return run_damping(a);
+    }
     let mut sys = PeriodicSystem::new(a.params, a.omega1, a.t_load).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let write = |name: &str, text: &str| {

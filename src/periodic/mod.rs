@@ -17,6 +17,7 @@
 //! hidden constraint (§7); phi1 is the phase of the period and so not an unknown.
 
 pub mod harmonic;
+pub mod modal;
 pub mod shooting;
 
 use crate::parameter::ParamError;

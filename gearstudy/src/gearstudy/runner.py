@@ -37,7 +37,7 @@ from fmpy.fmi2 import (
     fmi2CallbackLoggerTYPE,
 )
 
-from . import reduce
+from . import damping, reduce
 from .units import Catalog
 
 STATUS = ["OK", "Warning", "Discard", "Error", "Fatal", "Pending"]
@@ -82,6 +82,8 @@ def result_columns(settings: dict, catalog: Catalog) -> list[tuple[str, str]]:
             cols.append((n, "float64"))
     for n in settings["orders"]:
         cols += [(f"{n}.order{k}", "float64") for k in range(1, settings["window"]["n_orders"] + 1)]
+    if "damping" in settings:
+        cols += damping.columns(settings["damping"]["modes"])
     seen, out = set(), []
     for c in cols:
         if c[0] not in seen:
@@ -281,6 +283,14 @@ class PointRunner:
             row["status"] = "Error"
             row["message"] = f"{type(e).__name__}: {e}"
             terminate = False
+        if "damping" in settings:
+            # the modal damping of the point's periodic orbit (damping.py), whatever the run
+            try:
+                row.update(damping.modal(point, self.catalog, settings["damping"]["program"],
+                                         settings["damping"]["modes"],
+                                         warn=lambda m: self.log.append((1, "", m))))
+            except Exception as e:
+                self.log.append((1, "", f"damping: {type(e).__name__}: {e}"))
         warnings = [m for st, _, m in self.log if st == 1]
         if row["status"] == "OK" and warnings:
             row["status"] = "Warning"

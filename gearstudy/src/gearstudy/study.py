@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import damping
 from .units import Catalog, StudyError, parse_duration
 
 REPO_FMU = Path("target") / "fmu" / "GearedRotor.fmu"
@@ -64,6 +65,8 @@ class Study:
     tolerance: float | None = None  # fmi2SetupExperiment tolerance; None = the FMU's rtol
     extra: dict = field(default_factory=dict)
     fmu_sha256: str = ""  # the .fmu's bytes: a rebuilt binary is another model
+    damping_modes: int = 0  # [damping] modes: modal damping columns per point (damping.py)
+    damping_program: str = ""  # the `periodic` program that computes them
 
     @property
     def variables(self) -> list[str]:
@@ -83,7 +86,8 @@ class Study:
             # the points themselves: a grid whose values changed is another study (a rerun
             # into the same directory would mix both grids)
             "points_sha256": _digest(sorted(point_key(p) for p in self.points)),
-        }
+        } | ({"damping": {"modes": self.damping_modes, "program": self.damping_program}}
+             if self.damping_modes else {})
 
     def settings_fingerprint(self) -> str:
         return _digest(self.settings())
@@ -129,7 +133,7 @@ def study_from_dict(
     fmu: Path | str | None = None,
     catalog: Catalog | None = None,
 ) -> Study:
-    known = {"study", "fixed", "grid", "list", "lhs", "outputs", "window", "run"}
+    known = {"study", "fixed", "grid", "list", "lhs", "outputs", "window", "run", "damping"}
     unknown = set(data) - known
     if unknown:
         raise StudyError(f"unknown table(s) {sorted(unknown)}; allowed: {sorted(known)}")
@@ -139,6 +143,7 @@ def study_from_dict(
         "window": {"transient", "periodic_settle", "fallback_transient", "periods", "samples_per_period",
                    "n_orders"},
         "run": {"chunk_size", "tolerance"},
+        "damping": {"modes", "program"},
     }
     for table, keys in allowed.items():
         bad = set(data.get(table, {})) - keys
@@ -209,6 +214,20 @@ def study_from_dict(
             f"[window] samples_per_period = {window.samples_per_period} cannot resolve "
             f"n_orders = {window.n_orders}; use at least {2 * window.n_orders + 1}"
         )
+    damping_modes, damping_program = 0, ""
+    if "damping" in data:
+        dmp = data["damping"]
+        damping_modes = int(dmp.get("modes", 6))
+        if damping_modes < 1:
+            raise StudyError("[damping] modes must be >= 1 (the number of mode columns)")
+        prog = damping.find_program(dmp.get("program"), base)
+        if not prog.is_file():
+            raise StudyError(
+                f"[damping]: the program {prog} is not found; build it with "
+                "`cargo build --release --bin periodic`, or give its path with [damping] program "
+                f"or ${damping.PROGRAM_ENV}"
+            )
+        damping_program = str(prog)
     run = data.get("run", {})
     tol = run.get("tolerance")
     return Study(
@@ -226,6 +245,8 @@ def study_from_dict(
         tolerance=None if tol is None else float(tol),
         extra={"description": meta.get("description", "")},
         fmu_sha256=hashlib.sha256(fmu_path.read_bytes()).hexdigest(),
+        damping_modes=damping_modes,
+        damping_program=damping_program,
     )
 
 
