@@ -387,3 +387,78 @@ fn spur_pair_energy_balance_closes_in_the_simulation() {
         assert!(o.e_loss > 0.0);
     }
 }
+
+/// The Jacobian against central differences of f (as tests/rotor_friction_laws.rs for
+/// laws 1-4): every entry to 1e-3 of its row scale, and the lambda column (law 5's
+/// coefficient depends on the line load: a difference of the friction evaluation) to 1e-6
+/// of its own scale.
+#[test]
+fn jacobian_matches_central_differences() {
+    let mut rng = common::rng::Rng(65);
+    let p = Params {
+        friction_law: FrictionLaw::BenedictKelley,
+        ..Params::default()
+    };
+    let mut model = GearedRotor::new(p).unwrap();
+    let mut worst: f64 = 0.0;
+    for _ in 0..10 {
+        model.set_inputs(Inputs {
+            omega1: 314.159 + rng.sym(50.0),
+            t_load: 50.0 + rng.sym(50.0),
+            ..Inputs::default()
+        });
+        let (mut ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
+        for j in 0..6 {
+            ic.u[j] += rng.sym(2e-6);
+            ic.u_dot[j] = rng.sym(0.02);
+        }
+        ic.phi1 = rng.sym(10.0);
+        let y = model.initialize_with(0.0, &ic).unwrap();
+        let mut jac = SMatrix::<f64, NY, NY>::zeros();
+        assert!(model.jacobian(0.0, &y, &mut jac));
+        let mut fp = SVector::<f64, NY>::zeros();
+        let mut fm = SVector::<f64, NY>::zeros();
+        for j in 0..NY {
+            let h = if j < 7 {
+                1e-8
+            } else {
+                1e-7 * y[j].abs().max(1e-2)
+            };
+            let (mut yp, mut ym) = (y, y);
+            yp[j] += h;
+            ym[j] -= h;
+            model.rhs(0.0, &yp, &mut fp).unwrap();
+            model.rhs(0.0, &ym, &mut fm).unwrap();
+            for i in 0..NY {
+                let fd = (fp[i] - fm[i]) / (yp[j] - ym[j]);
+                let row = (0..NY)
+                    .map(|k| jac[(i, k)].abs())
+                    .fold(0.0, f64::max)
+                    .max(1e-300);
+                let e = (fd - jac[(i, j)]).abs() / row;
+                worst = worst.max(e);
+                assert!(e < 1e-3, "d f{i}/d y{j}: jac {} fd {fd}", jac[(i, j)]);
+            }
+        }
+    }
+    let y = model.initialize(0.0).unwrap();
+    let mut jac = SMatrix::<f64, NY, NY>::zeros();
+    assert!(model.jacobian(0.0, &y, &mut jac));
+    let l = idx::LAMBDA;
+    let h = 1e-6 * y[l].abs();
+    let (mut yp, mut ym) = (y, y);
+    yp[l] += h;
+    ym[l] -= h;
+    let mut fp = SVector::<f64, NY>::zeros();
+    let mut fm = SVector::<f64, NY>::zeros();
+    model.rhs(0.0, &yp, &mut fp).unwrap();
+    model.rhs(0.0, &ym, &mut fm).unwrap();
+    let col = (0..NY).map(|i| jac[(i, l)].abs()).fold(0.0, f64::max);
+    let mut e_col: f64 = 0.0;
+    for i in 0..NY {
+        let fd = (fp[i] - fm[i]) / (2.0 * h);
+        e_col = e_col.max((fd - jac[(i, l)]).abs() / col);
+    }
+    println!("law 5: max |J - FD| / max|row| = {worst:.2e}, lambda column {e_col:.2e}");
+    assert!(e_col < 1e-6, "lambda column {e_col:e}");
+}
