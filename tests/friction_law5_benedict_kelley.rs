@@ -462,3 +462,36 @@ fn jacobian_matches_central_differences() {
     println!("law 5: max |J - FD| / max|row| = {worst:.2e}, lambda column {e_col:.2e}");
     assert!(e_col < 1e-6, "lambda column {e_col:e}");
 }
+
+/// Near standstill kappa is tiny and the point x = 0 lies far outside the segment
+/// (|x0 / kappa| >> len): the integrals still match the reference (no cancellation in
+/// the panel ends), and tend to those of kappa = 0.
+#[test]
+fn segment_integrals_near_standstill() {
+    let (q, eta, ra, v_reg) = (2e5, 0.03, 0.5e-6, 0.01);
+    let (om, lt, sb) = ((1e-9, 0.66e-9), 0.0264, 20f64.to_radians().sin());
+    let e = BkLine::new(q, eta, ra, v_reg, om.0, om.1, lt, sb);
+    for (x0, y) in [(0.3, 0.0), (0.003, 0.02), (-0.5, 0.001)] {
+        let kappa = (om.0 + om.1) * sb;
+        let (li, mu_int) = e.segment_integrals(x0, y, kappa, 0.012, 0.02);
+        let r = reference(q, eta, ra, v_reg, om, lt, sb, x0, y, kappa, 0.012, 0.02);
+        let (l0, m0) = e.segment_integrals(x0, y, 0.0, 0.012, 0.02);
+        let got = [li.ix, li.iy, li.kx, li.ky, li.w, mu_int];
+        let flat = [l0.ix, l0.iy, l0.kx, l0.ky, l0.w, m0];
+        for k in 0..6 {
+            let sc = r[k].abs().max(1e-30);
+            assert!(
+                (got[k] - r[k]).abs() <= 1e-9 * sc,
+                "{x0}, {k}: {} vs {}",
+                got[k],
+                r[k]
+            );
+            assert!(
+                (flat[k] - r[k]).abs() <= 1e-6 * sc,
+                "{x0}, {k}: {} vs {}",
+                flat[k],
+                r[k]
+            );
+        }
+    }
+}

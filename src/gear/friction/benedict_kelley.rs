@@ -185,6 +185,17 @@ impl BkLine {
         let a0 = d_k.max(d_y);
         // t = s - s_p; the segment covers t in [t0, t1].
         let (t0, t1) = (-s_p, len - s_p);
+        // A segment on one side of x = 0 that one panel covers (ratio <= 4, no break
+        // inside): integrated in s directly. The same panel as below, but without mapping
+        // through s_p, which cancels when kappa is tiny (near standstill, |s_p| >> len).
+        if t0 >= 0.0 || t1 <= 0.0 {
+            let (d_lo, d_hi) = if t0 >= 0.0 { (t0, t1) } else { (-t1, -t0) };
+            let inside = |d: f64| d_lo < d && d < d_hi;
+            if d_hi <= 4.0 * d_lo.max(a0) && !inside(d_k) && !inside(d_y) {
+                self.panel(&mut acc, x0, y, kappa, sigma0, 0.0, len);
+                return acc.finish(y);
+            }
+        }
         for side in [1.0f64, -1.0] {
             // distances d >= 0 on this side: t = side d
             let (d_lo, d_hi) = if side > 0.0 {
