@@ -1,7 +1,9 @@
 //! Efficiency map of the default pair per friction law (not a test): speed x load torque,
 //! efficiency `1 - <P_loss>/<P_in>` over whole mesh periods in the steady state, from the
 //! energy accumulators E_loss, E_in of a `Simulation` (RADAU5, rtol 1e-8).
-//! Run: `cargo run --release --example efficiency_map [settle_periods] [avg_periods]`.
+//! Run: `cargo run --release --example efficiency_map [settle_periods] [avg_periods]`
+//! (`EFFICIENCY_LAWS=1,5` for a subset of the laws 1-5, `EFFICIENCY_V_REG=0.001` for
+//! another v_reg).
 
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{idx, Params};
@@ -23,16 +25,23 @@ fn main() {
     let rpms = [1500.0, 2000.0, 2500.0, 3000.0];
     let loads = [0.0, 25.0, 50.0, 100.0];
     println!("settle {settle} mesh periods, average over {avg}; rows: speed [rpm], columns: T_load [N m]");
-    for law in [
-        FrictionLaw::Coulomb,
-        FrictionLaw::RegularisedCoulomb,
-        FrictionLaw::IsoMean,
-        FrictionLaw::LocalEhl,
-    ] {
-        let p = Params {
+    // `EFFICIENCY_LAWS=5` (or e.g. `1,5`): only these law codes; default all five.
+    let codes: Vec<i32> = std::env::var("EFFICIENCY_LAWS")
+        .ok()
+        .map(|v| v.split(',').filter_map(|c| c.trim().parse().ok()).collect())
+        .unwrap_or_else(|| (1..=5).collect());
+    for law in codes.into_iter().filter_map(FrictionLaw::from_code) {
+        let mut p = Params {
             friction_law: law,
             ..Params::default()
         };
+        // `EFFICIENCY_V_REG=0.001`: law 2's regularising speed and law 5's bound (m/s).
+        if let Some(v) = std::env::var("EFFICIENCY_V_REG")
+            .ok()
+            .and_then(|v| v.parse().ok())
+        {
+            p.friction.v_reg = v;
+        }
         let t0 = Instant::now();
         println!(
             "\nlaw {} ({law:?}): efficiency [%] / mean mu_eff",

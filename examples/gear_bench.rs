@@ -1,6 +1,7 @@
 //! Benchmark (not a test): median time of one f(t, y) and one Jacobian evaluation for the
 //! default pair, per friction law (1 Coulomb, 2 regularised, 3 ISO/TR 14179-2 mean, 4 local
-//! EHL), and of one consistent lambda (a closed form for laws 1-2, a scalar solve for 3-4).
+//! EHL, 5 Benedict & Kelley), and of one consistent lambda (a closed form for laws 1-2, a
+//! scalar solve for 3-5). `GEAR_BENCH_LAWS=1,5` times a subset.
 //! Three sets of states over one mesh period: the static equilibrium at 64 phases (`rhs`),
 //! the same with an imposed axial vibration (`rhs_moving`), and 64 states of a simulated
 //! run (`rhs_run`, see [`run_states`]), whose small axial sliding from the bearings and the
@@ -39,7 +40,7 @@ fn main() {
     // with N and 0 and take the difference.
     let args: Vec<String> = std::env::args().collect();
     if args.len() == 5 && args[1] == "count" {
-        let law = FrictionLaw::from_code(args[2].parse().expect("law code")).expect("law 1-4");
+        let law = FrictionLaw::from_code(args[2].parse().expect("law code")).expect("law 1-5");
         let n: usize = args[4].parse().expect("N");
         count(
             Params {
@@ -51,12 +52,12 @@ fn main() {
         );
         return;
     }
-    for law in [
-        FrictionLaw::Coulomb,
-        FrictionLaw::RegularisedCoulomb,
-        FrictionLaw::IsoMean,
-        FrictionLaw::LocalEhl,
-    ] {
+    // `GEAR_BENCH_LAWS=1,5`: only these law codes; default all five.
+    let codes: Vec<i32> = std::env::var("GEAR_BENCH_LAWS")
+        .ok()
+        .map(|v| v.split(',').filter_map(|c| c.trim().parse().ok()).collect())
+        .unwrap_or_else(|| (1..=5).collect());
+    for law in codes.into_iter().filter_map(FrictionLaw::from_code) {
         println!("friction law {} ({law:?})", law.code());
         bench(Params {
             friction_law: law,

@@ -361,7 +361,8 @@ CALCULATED = ["H_V", "H_V_iso", "m1_solid", "J1_solid", "m2_solid", "J2_solid"]
 # the coefficient each friction law actually uses (docs/friction.md)
 LAW_COEFFICIENT = {1: ("mu", "the parameter mu"), 2: ("mu_eff", "mu times the regularisation"),
                    3: ("mu_mz", "ISO/TR 14179-2 (Schlenk) at the load and speed"),
-                   4: ("mu_eff", "load-weighted mean of the local EHL coefficient")}
+                   4: ("mu_eff", "load-weighted mean of the local EHL coefficient"),
+                   5: ("mu_eff", "load-weighted mean of Benedict & Kelley's coefficient")}
 
 
 def main() -> int:

@@ -11,12 +11,14 @@ use super::geometry::PairGeometry;
 use super::mesh::{Kinematics, Mesh};
 use nalgebra::Vector3;
 
+pub mod benedict_kelley;
 pub mod ehl;
 pub mod iso_mean;
 pub mod law_params;
 pub mod regularised;
 pub mod stick;
 
+pub use benedict_kelley::BkLine;
 pub use ehl::{EhlLine, Lubricant};
 pub use iso_mean::{mu_mz, IsoMean};
 pub use law_params::FrictionParams;
@@ -38,41 +40,58 @@ pub enum FrictionLaw {
     IsoMean,
     /// 4: local EHL coefficient mu(s) along every contact line (Xu et al. 2007).
     LocalEhl,
+    /// 5: Benedict & Kelley's (1961) coefficient mu(s) along every contact line, from the
+    /// line load, the local sliding and rolling speeds, viscosity and roughness; bounded
+    /// below the sliding speed v_reg, where the force falls off linearly.
+    BenedictKelley,
 }
 
 impl FrictionLaw {
-    /// The law from its FMI code 1..=4 (None for any other code).
+    /// The law from its FMI code 1..=5 (None for any other code).
     pub fn from_code(code: i32) -> Option<Self> {
         match code {
             1 => Some(FrictionLaw::Coulomb),
             2 => Some(FrictionLaw::RegularisedCoulomb),
             3 => Some(FrictionLaw::IsoMean),
             4 => Some(FrictionLaw::LocalEhl),
+            5 => Some(FrictionLaw::BenedictKelley),
             _ => None,
         }
     }
 
-    /// The FMI code 1..=4 of the law.
+    /// The FMI code 1..=5 of the law.
     pub fn code(self) -> i32 {
         match self {
             FrictionLaw::Coulomb => 1,
             FrictionLaw::RegularisedCoulomb => 2,
             FrictionLaw::IsoMean => 3,
             FrictionLaw::LocalEhl => 4,
+            FrictionLaw::BenedictKelley => 5,
         }
     }
 
     /// Whether the friction force jumps where the sliding on a line reverses (the pitch
     /// line): true for the laws with a sign function (1, 3), false for the regularised
-    /// law (smooth there) and the EHL law (mu(s) -> 0 like |x|^1.036 at the pitch line).
+    /// law (smooth there), the EHL law (mu(s) -> 0 like |x|^1.036 at the pitch line) and
+    /// Benedict & Kelley's law (force linear in the sliding below v_reg).
     pub fn sharp_reversal(self) -> bool {
         matches!(self, FrictionLaw::Coulomb | FrictionLaw::IsoMean)
     }
 
     /// Whether the coefficient depends on the normal force (then lambda needs a scalar
-    /// solve, `model.md` §7): laws 3 and 4.
+    /// solve, `model.md` §7): laws 3, 4 and 5.
     pub fn load_dependent(self) -> bool {
-        matches!(self, FrictionLaw::IsoMean | FrictionLaw::LocalEhl)
+        matches!(
+            self,
+            FrictionLaw::IsoMean | FrictionLaw::LocalEhl | FrictionLaw::BenedictKelley
+        )
+    }
+
+    /// Whether the sums carry a local coefficient mu(s) that depends on the line load
+    /// (laws 4 and 5): then the lambda column of the Jacobian differentiates the friction
+    /// evaluation.
+    pub fn local_load_dependent(self) -> bool {
+        matches!(self, FrictionLaw::LocalEhl | FrictionLaw::BenedictKelley)
     }
 
     /// The five integrals of one segment, per unit of `mu |lambda| / l`, for the laws whose
@@ -98,6 +117,8 @@ pub enum LineLaw {
     },
     /// The local EHL coefficient (law 4) at the current line load.
     Ehl(EhlLine),
+    /// Benedict & Kelley's coefficient (law 5) at the current line load.
+    BenedictKelley(BkLine),
 }
 
 /// The five line integrals of one segment (`model.md` §4).
@@ -423,6 +444,11 @@ impl PairGeometry {
                     regularised_integrals(x0, y, kappa, seg.length, *v_reg)
                 }
                 LineLaw::Ehl(e) => {
+                    let (li, mu_int) = e.segment_integrals(x0, y, kappa, seg.length, seg.sigma0);
+                    mu_len += mu_int;
+                    li
+                }
+                LineLaw::BenedictKelley(e) => {
                     let (li, mu_int) = e.segment_integrals(x0, y, kappa, seg.length, seg.sigma0);
                     mu_len += mu_int;
                     li

@@ -417,7 +417,7 @@ impl GearedRotor {
             0.0
         };
         let l = sums.contact.length;
-        if self.params.friction_law == FrictionLaw::LocalEhl {
+        if self.params.friction_law.local_load_dependent() {
             self.friction_lambda_column(t, y, &m, &fr, jac)?;
         } else {
             // d p / d|lambda|; law 3: p = mu_mz |lambda| / l with mu_mz ~ |lambda|^0.2.

@@ -10,7 +10,8 @@ use super::params::Params;
 use crate::gear::{FrictionLaw, FrictionParams, GearData, FRICTION_PARAMETERS, GEAR_PARAMETERS};
 use crate::parameter::{Kind, ParamError, Parameter, Rule};
 
-const FRICTION_LAWS: &str = "1 Coulomb, 2 regularised, 3 ISO/TR 14179-2, 4 local EHL";
+const FRICTION_LAWS: &str =
+    "1 Coulomb, 2 regularised, 3 ISO/TR 14179-2, 4 local EHL, 5 Benedict-Kelley";
 
 /// The rotor parameters (`model.md` §5, §8, §10), one row each (name, unit, default,
 /// declared min, max, the model's rule, the field): masses, inertias, bearings, the
@@ -44,8 +45,8 @@ pub static ROTOR_PARAMETERS: [Parameter<Params>; 21] = [
         kind: Kind::Integer,
         default: 1.0,
         min: Some(1.0),
-        max: Some(4.0),
-        rule: Rule::Code(4, FRICTION_LAWS),
+        max: Some(5.0),
+        rule: Rule::Code(5, FRICTION_LAWS),
         get: |p| f64::from(p.friction_law.code()),
         put: |p, x| p.friction_law = FrictionLaw::from_code(x as i32).unwrap_or_default(),
     },

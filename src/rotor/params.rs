@@ -103,6 +103,17 @@ impl Params {
             }
         }
         self.friction.validate()?;
+        let ra_max = crate::gear::friction::benedict_kelley::RA_MAX;
+        if self.friction_law == FrictionLaw::BenedictKelley && !(self.friction.ra < ra_max) {
+            return Err(ParamError {
+                name: "Ra",
+                value: self.friction.ra,
+                requirement: format!(
+                    "Ra < {ra_max:e} m with friction_law = 5 (Benedict & Kelley's roughness \
+                     factor 50/(50 - S) needs S < 50 micro-inch)"
+                ),
+            });
+        }
         Ok(g)
     }
 

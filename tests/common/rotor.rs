@@ -5,11 +5,12 @@ use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
 use nalgebra::{SVector, Vector3};
 
 /// Every friction law (docs/friction.md), in code order.
-pub const LAWS: [FrictionLaw; 4] = [
+pub const LAWS: [FrictionLaw; 5] = [
     FrictionLaw::Coulomb,
     FrictionLaw::RegularisedCoulomb,
     FrictionLaw::IsoMean,
     FrictionLaw::LocalEhl,
+    FrictionLaw::BenedictKelley,
 ];
 
 /// Diagonal of the mass matrix of the velocity block v = (u1', u2', phi2') (model.md §5):

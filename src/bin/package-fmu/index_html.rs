@@ -306,8 +306,11 @@ helical ones). Outside the fitted range (v_t &ge; 1 m/s, F_bt/b &ge; 150 N/mm) a
 <li>Local EHL coefficient along the lines (Xu, Kahraman, Anderson, Maddock 2007, fitted for a 75W90 gear oil) from the
 local Hertzian pressure, slide-to-roll ratio, entraining speed, radius of curvature, <code>eta_oil</code> and
 <code>Ra</code>; <code>E1</code>, <code>nu1</code>, <code>E2</code>, <code>nu2</code> give the Hertzian pressure.</li>
+<li>Benedict &amp; Kelley's coefficient (1961) along the lines from the line load, the local sliding and sum speeds,
+<code>eta_oil</code> and <code>Ra</code>; below the sliding speed <code>v_reg</code> the force falls off linearly
+(the formula diverges at the pitch line; friction.md).</li>
 </ol>
-<p>For laws 3 and 4 the coefficient depends on the contact force, which is then found by a scalar solve. Law 4
+<p>For laws 3 to 5 the coefficient depends on the contact force, which is then found by a scalar solve. Law 4
 integrates mu_loc along every line (about 4-5 times the cost of law 1 per right-hand side); its loss against speed
 follows a published use of the same formula on the Petry-Johnson spur test gear (413 N m, 2000-10000 rpm: within the
 bands derived from that publication's tables to 3 %; friction.md).</p>

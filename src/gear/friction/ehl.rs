@@ -38,7 +38,7 @@
 
 use super::LineIntegrals;
 
-mod batch_math;
+pub(crate) mod batch_math;
 pub mod quadrature;
 mod rules;
 

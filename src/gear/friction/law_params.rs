@@ -1,4 +1,4 @@
-//! Parameters of friction laws 2-4, described once, and their validation
+//! Parameters of friction laws 2-5, described once, and their validation
 //! (`docs/friction.md`).
 
 use super::ehl::Lubricant;
@@ -7,12 +7,13 @@ use crate::parameter::{Kind, ParamError, Parameter, Rule};
 /// Parameters of the friction laws beyond Coulomb's mu (SI units; FMI names in brackets).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrictionParams {
-    /// Regularising speed of law 2 (m/s) (`v_reg`).
+    /// Regularising speed of law 2 (m/s) (`v_reg`); law 5: the sliding speed below which
+    /// its force falls off linearly.
     pub v_reg: f64,
-    /// Dynamic viscosity of the oil at its temperature (Pa s) (`eta_oil`), laws 3 and 4.
+    /// Dynamic viscosity of the oil at its temperature (Pa s) (`eta_oil`), laws 3, 4 and 5.
     pub eta_oil: f64,
-    /// Mean arithmetic flank roughness Ra = (Ra1 + Ra2)/2 (m) (`Ra`); law 3, and law 4
-    /// as Xu's composite roughness S.
+    /// Mean arithmetic flank roughness Ra = (Ra1 + Ra2)/2 (m) (`Ra`); law 3, law 4 as Xu's
+    /// composite roughness S, law 5 as Benedict & Kelley's average roughness S.
     pub ra: f64,
     /// Lubricant factor X_L of ISO/TR 14179-2 (1) (`X_L`), law 3.
     pub x_l: f64,

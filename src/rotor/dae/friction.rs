@@ -4,6 +4,7 @@
 
 use super::hidden::HiddenConstraint;
 use super::{kinematics, GearedRotor};
+use crate::gear::friction::BkLine;
 use crate::gear::{EhlLine, Friction, FrictionLaw, FrictionSums, LineLaw, Mesh, PitchLine};
 use crate::rotor::{idx, ModelError, NY};
 use nalgebra::{SMatrix, SVector};
@@ -86,11 +87,29 @@ impl GearedRotor {
                 );
                 (LineLaw::Ehl(e), 1.0)
             }
+            FrictionLaw::BenedictKelley => {
+                let l = g.contact_summary(m, phi1, psi0).length;
+                if !(l > 0.0) {
+                    return Err(ModelError::NoContact { t });
+                }
+                let fp = &self.params.friction;
+                let e = BkLine::new(
+                    lam.abs() / l,
+                    fp.eta_oil,
+                    fp.ra,
+                    fp.v_reg,
+                    k.omega1,
+                    k.omega2,
+                    m.len_t1t2,
+                    g.sin_beta_b,
+                );
+                (LineLaw::BenedictKelley(e), 1.0)
+            }
         };
         // m is the mesh of y, so the sums of laws 1-3 are a function of the memo's key;
-        // law 4's depend on lambda too (the line load): its bits are the variant.
+        // laws 4 and 5 depend on lambda too (the line load): its bits are the variant.
         let variant = match self.params.friction_law {
-            FrictionLaw::LocalEhl => lam.to_bits(),
+            FrictionLaw::LocalEhl | FrictionLaw::BenedictKelley => lam.to_bits(),
             law => {
                 let pitch_bits = match pitch {
                     PitchLine::Slide => 0,
