@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parent.parent
 FIG = ROOT / "docs" / "figures"
 RPM = 30.0 / 3.141592653589793
 N_MODES = 6
-LAW_NAMES = {1: "1 Coulomb", 2: "2 regularised", 3: "3 ISO mean", 4: "4 local EHL", 5: "5"}
+LAW_NAMES = {1: "1 Coulomb", 2: "2 regularised", 3: "3 ISO mean", 4: "4 local EHL", 5: "5 Benedict-Kelley"}
 
 
 def rows_of(name: str) -> list[dict]:
