@@ -24,7 +24,7 @@ pub use iso_mean::{mu_mz, IsoMean};
 pub use law_params::FrictionParams;
 pub use regularised::regularised_integrals;
 use stick::{Contribution, Held};
-pub use stick::{PitchLine, StuckLine};
+pub use stick::{PitchLine, StickAction, StuckLine};
 
 /// The friction law (FMI parameter `friction_law`): the single seam through which the
 /// local friction model enters. `docs/friction.md` gives each law's formula and source.
@@ -410,6 +410,25 @@ impl PairGeometry {
         law: &LineLaw,
         pitch: PitchLine,
     ) -> FrictionSums {
+        // Two instances: the one for `Slide` (every f of a helical pair) has no test for the
+        // line nearest zero sliding in its loop (measured: +8 % instructions per f with it).
+        if pitch == PitchLine::Slide {
+            self.sums_generic::<false>(m, phi1, psi0, k, law, pitch)
+        } else {
+            self.sums_generic::<true>(m, phi1, psi0, k, law, pitch)
+        }
+    }
+
+    /// [`PairGeometry::sums_with_stick`] with `NEAR = (pitch != Slide)` known at compile time.
+    fn sums_generic<const NEAR: bool>(
+        &self,
+        m: &Mesh,
+        phi1: f64,
+        psi0: f64,
+        k: &Kinematics,
+        law: &LineLaw,
+        pitch: PitchLine,
+    ) -> FrictionSums {
         let (cb, sb) = (self.cos_beta_b, self.sin_beta_b);
         let dv = k.v2 - k.v1;
         // Local components of u2' - u1'.
@@ -428,7 +447,7 @@ impl PairGeometry {
         let mut a2 = [0.0f64; 3];
         let mut mu_len = 0.0;
         // Unless `Slide`: the segment nearest zero sliding so far, held back from the sums.
-        let near = pitch != PitchLine::Slide;
+        let near = NEAR;
         let mut held: Option<Held> = None;
         let contact = self.for_each_segment(m, phi1, psi0, |seg| {
             let x0 = x_base + wsum * seg.sigma0;
@@ -515,17 +534,7 @@ impl PairGeometry {
         let mut stuck = None;
         if let Some(h) = held {
             match pitch {
-                PitchLine::Stick => {
-                    stuck = Some(StuckLine::new(
-                        m,
-                        h.seg,
-                        h.x0,
-                        [rb1, -rb2],
-                        lt,
-                        [u1z, u2z],
-                        [cb, sb],
-                    ));
-                }
+                PitchLine::Stick => stuck = Some(StuckLine::new(h.seg, h.x0)),
                 PitchLine::Released { band, .. } if h.x0.abs() <= band && y.abs() <= band => {
                     acc.add(&h.hinted.unwrap_or(h.c));
                 }

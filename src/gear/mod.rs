@@ -16,7 +16,7 @@ pub use contact_lines::{ContactSummary, Segment};
 pub use friction::law_params::FRICTION_PARAMETERS;
 pub use friction::{
     line_integrals, EhlLine, Friction, FrictionLaw, FrictionParams, FrictionSums, IsoMean,
-    LineIntegrals, LineLaw, Lubricant, PitchLine, StuckLine,
+    LineIntegrals, LineLaw, Lubricant, PitchLine, StickAction, StuckLine,
 };
 pub use geometry::{inv, inv_inverse, GearData, PairGeometry, ParamError, GEAR_PARAMETERS};
 pub use mesh::{Kinematics, Mesh, MeshError};

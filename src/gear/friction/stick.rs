@@ -10,6 +10,7 @@
 //! this type carries where it acts.
 
 use super::super::contact_lines::Segment;
+use super::super::geometry::PairGeometry;
 use super::super::mesh::Mesh;
 use nalgebra::Vector3;
 
@@ -73,9 +74,8 @@ impl Contribution {
     }
 }
 
-/// The stuck segment and the action of a unit tangential force on it: `+e_w` on gear 2 and
-/// `-e_w` on gear 1, spread evenly along the segment (the even spread only decides the
-/// moments about x and y, which act on no degree of freedom).
+/// The stuck segment (kept small: the friction sums that carry it are copied through the
+/// memo on every f; its action follows from the mesh when needed, [`StuckLine::action`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StuckLine {
     /// Sliding speed `x0 = e_w . v_rel` on the segment in m/s (0 while it sticks, up to the
@@ -83,8 +83,17 @@ pub struct StuckLine {
     pub x0: f64,
     /// sigma of the segment's start point (along t from T1) in m.
     pub sigma0: f64,
+    /// Inertial axial coordinate Z of its start point in m.
+    pub z0: f64,
     /// Its length in m.
     pub length: f64,
+}
+
+/// What a unit tangential force on the stuck segment does: `+e_w` on gear 2 and `-e_w` on
+/// gear 1, spread evenly along the segment (the even spread only decides the moments about
+/// x and y, which act on no degree of freedom).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StickAction {
     /// e_w (inertial).
     pub e_w: Vector3<f64>,
     /// Moment about c1 of the unit force on gear 1, `(P_mid - c1) x (-e_w)`, in m.
@@ -98,34 +107,31 @@ pub struct StuckLine {
 }
 
 impl StuckLine {
-    /// From the segment, its `x0`, the radial offsets `[r_b1, -r_b2]` of T1, T2 from the
-    /// centres along e_w, `|T1 T2|`, the centres' axial positions and `[cos, sin]` of
-    /// beta_b (the frame of `PairGeometry::friction_sums_line`).
-    pub(crate) fn new(
-        m: &Mesh,
-        seg: Segment,
-        x0: f64,
-        radial: [f64; 2],
-        len_t1t2: f64,
-        uz: [f64; 2],
-        beta_b: [f64; 2],
-    ) -> Self {
-        let [cb, sb] = beta_b;
-        let h = 0.5 * seg.length;
+    pub(crate) fn new(seg: Segment, x0: f64) -> Self {
+        StuckLine {
+            x0,
+            sigma0: seg.sigma0,
+            z0: seg.z0,
+            length: seg.length,
+        }
+    }
+
+    /// The action of a unit force on this segment in the mesh `m` of pair `g` (the frame
+    /// of `PairGeometry::friction_sums_line`).
+    pub fn action(&self, m: &Mesh, g: &PairGeometry) -> StickAction {
+        let (cb, sb) = (g.cos_beta_b, g.sin_beta_b);
+        let h = 0.5 * self.length;
         // P_mid - c_j in local components; r x e_w = (0, r_z, -r_t).
-        let r1 = [radial[0], seg.sigma0 - h * sb, seg.z0 + h * cb - uz[0]];
+        let r1 = [g.rb1, self.sigma0 - h * sb, self.z0 + h * cb - m.c1.z];
         let r2 = [
-            radial[1],
-            seg.sigma0 - len_t1t2 - h * sb,
-            seg.z0 + h * cb - uz[1],
+            -g.rb2,
+            self.sigma0 - m.len_t1t2 - h * sb,
+            self.z0 + h * cb - m.c2.z,
         ];
         let moment1 = m.to_inertial(0.0, -r1[2], r1[1]);
         let moment2 = m.to_inertial(0.0, r2[2], -r2[1]);
         let e_w = m.e_w;
-        StuckLine {
-            x0,
-            sigma0: seg.sigma0,
-            length: seg.length,
+        StickAction {
             e_w,
             moment1,
             moment2,

@@ -19,7 +19,7 @@
 
 use super::{kinematics, GearedRotor};
 use crate::gear::contact_lines::reduce;
-use crate::gear::{Friction, FrictionLaw, FrictionSums, Mesh, PitchLine, StuckLine};
+use crate::gear::{Friction, FrictionLaw, FrictionSums, Mesh, PitchLine, StickAction, StuckLine};
 use crate::rotor::{idx, NY};
 use nalgebra::SVector;
 
@@ -115,9 +115,20 @@ impl GearedRotor {
 
     /// (4.13)'s state part for the stuck line `st` of the mesh `m` of y.
     pub(crate) fn stick_row(&self, y: &SVector<f64, NY>, m: &Mesh, st: &StuckLine) -> StickRow {
+        self.stick_row_with(y, m, st, &st.action(m, &self.geom))
+    }
+
+    /// [`GearedRotor::stick_row`] with the line's action already at hand.
+    fn stick_row_with(
+        &self,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        st: &StuckLine,
+        action: &StickAction,
+    ) -> StickRow {
         let g = &self.geom;
         let k = kinematics(y);
-        let w = st.generalised;
+        let w = action.generalised;
         let a_w: f64 = w.iter().zip(&self.mass).map(|(wi, m)| wi * wi / m).sum();
         // Rates of the line of action at fixed velocities (model.md §3.1): a, theta, alpha,
         // psi = theta - alpha, |T1 T2| = sqrt(a^2 - R^2), and the line's sigma0 =
@@ -165,11 +176,11 @@ impl GearedRotor {
     /// `+f_w e_w` on gear 2, `-f_w e_w` on gear 1, their moments, and its power
     /// `-f_w x0` to the loss (zero while the line sticks; it closes the energy balance of
     /// the drift).
-    pub(crate) fn add_stick(fr: &mut Friction, st: &StuckLine, f_w: f64) {
-        fr.f2 += st.e_w * f_w;
-        fr.f1 -= st.e_w * f_w;
-        fr.m1 += st.moment1 * f_w;
-        fr.m2 += st.moment2 * f_w;
+    pub(crate) fn add_stick(fr: &mut Friction, st: &StuckLine, action: &StickAction, f_w: f64) {
+        fr.f2 += action.e_w * f_w;
+        fr.f1 -= action.e_w * f_w;
+        fr.m1 += action.moment1 * f_w;
+        fr.m2 += action.moment2 * f_w;
         fr.p_loss -= f_w * st.x0;
     }
 
@@ -186,11 +197,12 @@ impl GearedRotor {
         let lam = y[idx::LAMBDA];
         let mut fr = sums.resultants(mu, lam);
         if let Some(st) = &sums.stuck {
-            let row = self.stick_row(y, m, st);
+            let action = st.action(m, &self.geom);
+            let row = self.stick_row_with(y, m, st, &action);
             let grow = self.geom.constraint_row(m);
             let rest = fr.generalised();
             let f_w = self.stick_force(t, y, &row, &grow, &rest);
-            Self::add_stick(&mut fr, st, f_w);
+            Self::add_stick(&mut fr, st, &action, f_w);
         }
         fr
     }
