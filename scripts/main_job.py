@@ -275,6 +275,10 @@ def check_case(v: dict, sets: dict) -> list[str]:
     window, and the model drives gear 1 in one sense); the net load on gear 2,
     T_load + d_phi omega2 (omega2 = omega1 z1/z2 in steady rotation), must not be negative
     (gear 2 would drive gear 1: the teeth lift off and 1 - P_loss/P_in means nothing)."""
+    for z in ("z1", "z2"):
+        if not v[z] >= 5:
+            raise UserError(f"{z} = {v[z]:g}: a gear needs at least 5 teeth (the declared minimum of "
+                            f"{z}); give e.g. --set {z}={27 if z == 'z1' else 41}")
     w1 = v["omega1"]
     if not (math.isfinite(w1) and w1 > 0):
         raise UserError(
@@ -413,7 +417,11 @@ def run_main() -> int:
             fmu = build_fmu(REPO)
         except (subprocess.CalledProcessError, FileNotFoundError) as e:
             raise UserError(f"building the .fmu failed ({e}); cargo's messages are above") from None
-    md = read_model_description(str(fmu))
+    try:
+        md = read_model_description(str(fmu))
+    except Exception as e:  # a zip error, a missing or malformed modelDescription.xml
+        raise UserError(f"--fmu {fmu}: not an FMU whose model description can be read ({e}); "
+                        "give the .fmu the build writes (target/fmu/GearedRotor.fmu)") from None
     try:
         sets = dict(parse_set(md, s) for s in args.set)
     except SetError as e:

@@ -640,3 +640,49 @@ fn both_versions_give_the_same_values() {
         c2::fmi2FreeInstance(c);
     }
 }
+
+/// The FMU declares hasEventMode = false: an instantiation with eventModeUsed = true is
+/// refused with a message (a master would otherwise be stopped at fmi3EnterStepMode), and
+/// the standard log categories logStatusDiscard and logStatusFatal are known (a generic
+/// master enables them; an unknown category is an error).
+#[test]
+fn event_mode_is_refused_and_the_standard_log_categories_are_known() {
+    let log: Box<Log> = Box::new(Mutex::new(Vec::new()));
+    let n = CString::new("fmi3ev").unwrap();
+    let g = CString::new(GUID).unwrap();
+    // SAFETY: valid strings; the log outlives the call.
+    let c = unsafe {
+        fmi3InstantiateCoSimulation(
+            n.as_ptr(),
+            g.as_ptr(),
+            std::ptr::null(),
+            0,
+            0,
+            1,
+            0,
+            std::ptr::null(),
+            0,
+            (&*log as *const Log).cast_mut().cast(),
+            Some(record),
+            None,
+        )
+    };
+    assert!(c.is_null());
+    let msgs = log.lock().unwrap();
+    assert!(
+        msgs.iter()
+            .any(|m| m.2.contains("eventModeUsed") && m.2.contains("hasEventMode = false")),
+        "{msgs:?}"
+    );
+    drop(msgs);
+    let f = Fmu::new(false);
+    let cats = [
+        CString::new("logStatusDiscard").unwrap(),
+        CString::new("logStatusFatal").unwrap(),
+    ];
+    let ptrs: Vec<Fmi3String> = cats.iter().map(|c| c.as_ptr()).collect();
+    // SAFETY: a live instance, two valid strings.
+    let s = unsafe { fmi3SetDebugLogging(f.c, 1, 2, ptrs.as_ptr()) };
+    assert_eq!(s, Fmi3Status::OK, "{}", f.messages());
+    f.init(&[]);
+}

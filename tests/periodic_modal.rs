@@ -200,8 +200,8 @@ fn a_perturbation_along_a_mode_decays_with_its_damping_and_frequency() {
     let t = sys.period();
     let n = 64;
     let (k0, k1) = (5usize, 55usize);
-    // The torsion mode (lowest, k = 0) and the highest (centre 1 x, k = 1: its frequency
-    // lies above the mesh frequency, so the branch matters).
+    // The torsion mode (lowest, k = 0) and the second (centre 2 z, k = 1: its frequency
+    // lies above half the mesh frequency, so the branch matters).
     for idx in [0usize, 1] {
         let m = &r.modes[idx];
         let w = &m.eigvec;

@@ -52,6 +52,8 @@ def _refused(r: subprocess.CompletedProcess, *words: str) -> None:
     ("initialization=sleep", ["initialization", "rest (= 1)", "periodic (= 3)"]),
     ("muu=0.1", ["'muu'", "did you mean mu"]),
     ("mu=0.1rpm", ["unit 'rpm'", "mu"]),
+    ("z2=0", ["z2 = 0", "at least 5 teeth"]),
+    ("z1=0", ["z1 = 0", "at least 5 teeth"]),
 ])
 def test_main_job_refuses_bad_settings_by_name(fmu_path, tmp_path, setting, words):
     r = _main_job(fmu_path, tmp_path, "--set", setting)
@@ -65,6 +67,14 @@ def test_main_job_refuses_bad_options(fmu_path, tmp_path):
     r = subprocess.run([sys.executable, str(MAIN_JOB), "--fmu", str(tmp_path / "none.fmu")],
                        capture_output=True, text=True, timeout=600)
     _refused(r, "--fmu", "none.fmu")
+    # a file that is not an FMU (found by review: zipfile.BadZipFile traceback)
+    (tmp_path / "notanfmu.fmu").write_text("not a zip")
+    r = subprocess.run([sys.executable, str(MAIN_JOB), "--fmu", str(tmp_path / "notanfmu.fmu")],
+                       capture_output=True, text=True, timeout=600)
+    _refused(r, "--fmu", "notanfmu.fmu", "not an FMU")
+    _refused(_gearstudy("sweep", str(REPO / "examples" / "studies" / "efficiency_map.toml"),
+                        "--fmu", str(tmp_path / "notanfmu.fmu"), "--out", str(tmp_path / "gs")),
+             "notanfmu.fmu", "not an FMU")
     (tmp_path / "afile").write_text("")
     r = subprocess.run([sys.executable, str(MAIN_JOB), "--fmu", str(fmu_path), "--no-periodic",
                         "--out", str(tmp_path / "afile" / "out")], capture_output=True, text=True, timeout=600)

@@ -63,7 +63,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     _resource_path: Fmi3String,
     _visible: Fmi3Boolean,
     logging_on: Fmi3Boolean,
-    _event_mode_used: Fmi3Boolean,
+    event_mode_used: Fmi3Boolean,
     early_return_allowed: Fmi3Boolean,
     _required_intermediate_variables: *const Fmi3ValueReference,
     n_required_intermediate_variables: usize,
@@ -110,6 +110,14 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 "instantiationToken {token} does not match this binary's {} (modelDescription.xml from another build?)",
                 variables::GUID
             ));
+        }
+        if event_mode_used != FMI3_FALSE {
+            return err(
+                "eventModeUsed = true: this FMU has no event mode (hasEventMode = false); \
+                 instantiate with eventModeUsed = false (contact events end a step early \
+                 when earlyReturnAllowed = true)"
+                    .into(),
+            );
         }
         if n_required_intermediate_variables > 0 {
             return err(format!(

@@ -33,8 +33,10 @@ pub unsafe extern "C" fn fmi3GetOutputDerivatives(
 /// fmi3DoStep: integrates to currentCommunicationPoint + communicationStepSize, or, when
 /// earlyReturnAllowed was set at instantiation, up to an event of the model inside the step
 /// (lift-off, drive reversal; docs/fmu.md "FMI 3.0"), with `*earlyReturn = true` and
-/// `*lastSuccessfulTime` there. The out-arguments are written whatever the status (false
-/// and the model time when the call fails before stepping; NULL ones are an error).
+/// `*lastSuccessfulTime` there. For a live instance of this FMU the out-arguments are
+/// written whatever the status (false and the model time when the call fails before
+/// stepping; NULL ones are an error); a NULL or foreign instance leaves them untouched (there
+/// is no model time to write).
 ///
 /// # Safety
 /// Valid instance; the out-pointers NULL or writable.

@@ -136,10 +136,10 @@ impl<M: Model> Instance<M> {
     /// Discard -> StepFailed. Returns the status.
     pub fn fail_status(&mut self, e: &FmuError<M::Error>) -> Status {
         let status = e.status();
-        let cat = if status == Status::Discard {
-            Category::Warning
-        } else {
-            Category::Error
+        let cat = match status {
+            Status::Discard => Category::Discard,
+            Status::Fatal => Category::Fatal,
+            _ => Category::Error,
         };
         self.log(status, cat, &e.to_string());
         match status {

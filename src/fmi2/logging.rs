@@ -20,7 +20,14 @@ pub enum Category {
     Events,
     /// logSolver
     Solver,
+    /// logStatusDiscard (a discarded step: the model left its validity, the solver stopped)
+    Discard,
+    /// logStatusFatal
+    Fatal,
 }
+
+/// Number of log categories (without logAll).
+const N_CATEGORIES: usize = 6;
 
 impl Category {
     fn name(self) -> &'static str {
@@ -29,6 +36,8 @@ impl Category {
             Category::Warning => "logStatusWarning",
             Category::Events => "logEvents",
             Category::Solver => "logSolver",
+            Category::Discard => "logStatusDiscard",
+            Category::Fatal => "logStatusFatal",
         }
     }
 }
@@ -67,8 +76,8 @@ fn escape_nul(s: &str) -> CString {
 pub struct Logger {
     name: CString,
     sink: Sink,
-    categories: [bool; 4],
-    categories_at_instantiate: [bool; 4],
+    categories: [bool; N_CATEGORIES],
+    categories_at_instantiate: [bool; N_CATEGORIES],
 }
 
 impl Logger {
@@ -78,8 +87,8 @@ impl Logger {
         Logger {
             name: CString::new(name).unwrap_or_else(|_| escape_message(name)),
             sink,
-            categories: [logging_on; 4],
-            categories_at_instantiate: [logging_on; 4],
+            categories: [logging_on; N_CATEGORIES],
+            categories_at_instantiate: [logging_on; N_CATEGORIES],
         }
     }
 
@@ -130,17 +139,23 @@ impl Logger {
     /// The first unknown category, with the list of known ones.
     pub fn set_categories(&mut self, on: bool, cats: &[&str]) -> Result<(), String> {
         if cats.is_empty() {
-            self.categories = [on; 4];
+            self.categories = [on; N_CATEGORIES];
             return Ok(());
         }
-        let mut new = if on { [false; 4] } else { self.categories };
+        let mut new = if on {
+            [false; N_CATEGORIES]
+        } else {
+            self.categories
+        };
         for c in cats {
             match *c {
-                "logAll" => new = [on; 4],
+                "logAll" => new = [on; N_CATEGORIES],
                 "logStatusError" => new[Category::Error as usize] = on,
                 "logStatusWarning" => new[Category::Warning as usize] = on,
                 "logEvents" => new[Category::Events as usize] = on,
                 "logSolver" => new[Category::Solver as usize] = on,
+                "logStatusDiscard" => new[Category::Discard as usize] = on,
+                "logStatusFatal" => new[Category::Fatal as usize] = on,
                 other => {
                     return Err(format!(
                         "unknown log category \"{other}\" (known: {})",

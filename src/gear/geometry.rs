@@ -61,7 +61,7 @@ pub static GEAR_PARAMETERS: [Parameter<GearData>; 12] = [
     gear_param("x2", "1", Kind::Real, 0.0, None, None, |g| g.x2, |g, x| g.x2 = x),
     gear_param("h_aP", "1", Kind::Real, 1.0, Some(1e-300), None, |g| g.ha_coef, |g, x| g.ha_coef = x),
     gear_param("a_w_set", "m", Kind::Real, 0.0, Some(0.0), None, |g| g.a_w, |g, x| g.a_w = x),
-    gear_param("h_fP", "1", Kind::Real, 1.25, Some(1e-300), None, |g| g.h_fp, |g, x| g.h_fp = x),
+    gear_param("h_fP", "1", Kind::Real, 1.25, Some(1e-300), Some(2.0), |g| g.h_fp, |g, x| g.h_fp = x),
     gear_param("c_gamma", "N/m2", Kind::Real, 0.0, Some(0.0), None, |g| g.c_gamma, |g, x| g.c_gamma = x),
 ];
 
@@ -274,8 +274,14 @@ impl PairGeometry {
         }
         // The two stiffness parameters (`stiffness`): not used by the rigid model, but a
         // set the elastic contact could not use is refused now.
-        if !(d.h_fp > 0.0 && d.h_fp.is_finite()) {
-            return Err(err("h_fP", d.h_fp, "0 < h_fP < inf".into()));
+        // (ISO 6336-1's basic rack factor C_B = [1 + 0.5 (1.2 - h_fP)] [...] falls to 0 at
+        // h_fP = 3.2; basic racks have 1.0..1.4.)
+        if !(d.h_fp > 0.0 && d.h_fp <= 2.0) {
+            return Err(err(
+                "h_fP",
+                d.h_fp,
+                "0 < h_fP <= 2 (basic racks: 1.0..1.4)".into(),
+            ));
         }
         if !(d.c_gamma >= 0.0 && d.c_gamma.is_finite()) {
             return Err(err(

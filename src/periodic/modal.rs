@@ -406,9 +406,31 @@ pub fn modal_analysis(
     }
     let mut shift: f64 = 0.0;
     let mut modes = Vec::new();
-    for (i, j) in matched {
+    // Near a parametric resonance (a mode's frequency near k f_mesh / 2) the conjugate pair
+    // of multipliers can meet on the real axis and part there: two real multipliers of
+    // different modulus for one mode, and the pairing between the mode's two exponents s0,
+    // conj(s0) and them is a tie. Report the less damped one (the larger modulus), so that
+    // an instability is never dropped with the conjugate.
+    let real = |rho: Complex<f64>| rho.im.abs() <= 1e-9 * rho.norm();
+    let partner = |i: usize| -> Option<usize> {
         let (s0, _) = refs[i];
-        let (rho, w) = floq[j];
+        (0..refs.len()).filter(|&q| q != i).min_by(|&a, &b| {
+            (refs[a].0 - s0.conj())
+                .norm()
+                .total_cmp(&(refs[b].0 - s0.conj()).norm())
+        })
+    };
+    let matched_of = |i: usize| matched.iter().find(|m| m.0 == i).map(|m| m.1);
+    for &(i, j) in &matched {
+        let (s0, _) = refs[i];
+        let (mut rho, mut w) = floq[j];
+        if s0.im >= 0.0 && real(rho) {
+            if let Some(j2) = partner(i).and_then(matched_of) {
+                if real(floq[j2].0) && floq[j2].0.norm() > rho.norm() {
+                    (rho, w) = floq[j2];
+                }
+            }
+        }
         let (s, k) = candidate(rho, s0);
         shift = shift.max((s - s0).norm() / band);
         if s0.im < 0.0 {

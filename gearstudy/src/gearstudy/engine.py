@@ -105,6 +105,8 @@ def sweep(
     items = [(i, point_key(p), p) for i, p in enumerate(study.points)]
     done = store.done_keys()
     todo = [it for it in items if it[1] not in done]
+    # Counted before --max-points cuts the list: the points already done, not the ones left.
+    n_done = len(items) - len(todo)
     if max_points is not None:
         todo = todo[: max(0, int(max_points))]
     settings = prepare_settings(study.settings(), study.catalog)
@@ -113,7 +115,7 @@ def sweep(
     t0 = time.perf_counter()
     failed = 0
     if not todo:
-        return SweepSummary(out, len(items), len(items) - len(todo), 0, 0, 0.0, 0, 0)
+        return SweepSummary(out, len(items), n_done, 0, 0, 0.0, 0, 0)
     if serial:
         pool = RunnerPool(study.fmu)
         n = study.chunk_size or chunk_size(len(todo), 1, estimated_point_cpu(study))
@@ -128,7 +130,7 @@ def sweep(
             pool.close()
         if progress:
             print()
-        return SweepSummary(out, len(items), len(items) - len(todo), len(todo), failed,
+        return SweepSummary(out, len(items), n_done, len(todo), failed,
                             time.perf_counter() - t0, n, 1)
 
     from distributed import Client
@@ -165,7 +167,7 @@ def sweep(
         if bar is not None:
             bar.join(timeout=5)
             print()
-        return SweepSummary(out, len(items), len(items) - len(todo), len(todo), failed,
+        return SweepSummary(out, len(items), n_done, len(todo), failed,
                             time.perf_counter() - t0, n, n_workers)
     finally:
         if own_client is not None:

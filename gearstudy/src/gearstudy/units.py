@@ -90,7 +90,13 @@ class Catalog:
 
     @classmethod
     def from_fmu(cls, fmu_path) -> "Catalog":
-        return cls(read_model_description(str(fmu_path)))
+        try:
+            md = read_model_description(str(fmu_path))
+        except Exception as e:  # a zip error, a missing or malformed modelDescription.xml
+            raise StudyError(f"{fmu_path}: not an FMU whose model description can be read ({e}); "
+                             "give --fmu target/fmu/GearedRotor.fmu or build it with "
+                             "`cargo run --release --bin package-fmu`") from None
+        return cls(md)
 
     def __contains__(self, name: str) -> bool:
         return name in self.variables
