@@ -15,7 +15,9 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// 4: the FMI layer's part first (phase, experiment), then the model's (variable count,
 ///    values, input derivatives, simulation flag and snapshot).
 /// 5: after the validity monitor, the contact-line stick mode (flag) and the release sense.
-pub const VERSION: u32 = 5;
+/// 6: `zeta_mesh` in the parameter table, `tooth_contact` after it (elastic contact), and
+///    the parameters of the ISO 6336-1 stiffness (`c_gamma`, `h_fP`).
+pub const VERSION: u32 = 6;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]

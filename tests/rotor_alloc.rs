@@ -52,3 +52,41 @@ fn rhs_and_jacobian_do_not_allocate() {
         assert_eq!(n, 0, "outputs allocated {n} times");
     }
 }
+
+/// The same for the elastic contact (docs/model.md §3.5): f and the outputs allocate
+/// nothing, in contact and in free flight.
+#[test]
+fn elastic_rhs_does_not_allocate() {
+    for beta in [20f64.to_radians(), 0.0] {
+        let mut p = Params::default();
+        p.gear.beta = beta;
+        p.tooth_contact = geared_rotor::rotor::ToothContact::Elastic;
+        let mut model = GearedRotor::new(p).unwrap();
+        model.set_inputs(Inputs {
+            omega1: 314.159,
+            t_load: 50.0,
+            ..Inputs::default()
+        });
+        let (ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
+        let y0 = model.initialize_with(0.0, &ic).unwrap();
+        let mut f = SVector::<f64, NY>::zeros();
+        let n = count(|| {
+            for i in 0..5000 {
+                let mut y = y0;
+                y[idx::PHI1] = i as f64 * 1e-3;
+                y[idx::V] = 1e-3 * (i as f64).sin();
+                // Every other call in free flight (gear 2 ahead by 0.1 mm).
+                if i % 2 == 1 {
+                    y[idx::Q + 6] += 1e-4;
+                }
+                model.rhs(1e-4 * i as f64, &y, &mut f).unwrap();
+                std::hint::black_box(&f);
+            }
+        });
+        assert_eq!(n, 0, "elastic rhs allocated {n} times in 5000 calls");
+        let n = count(|| {
+            std::hint::black_box(model.outputs(0.0, &y0));
+        });
+        assert_eq!(n, 0, "elastic outputs allocated {n} times");
+    }
+}

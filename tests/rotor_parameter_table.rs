@@ -14,6 +14,7 @@ use std::collections::BTreeSet;
 const SETTINGS: &[&str] = &[
     "initialization",
     "on_lift_off",
+    "tooth_contact",
     "rtol",
     "h_max",
     "max_internal_steps",

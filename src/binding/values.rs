@@ -8,7 +8,7 @@ use crate::gear::friction::iso_mean;
 use crate::gear::{stiffness, PairGeometry};
 use crate::parameter::ParamError;
 use crate::rotor::params::SolidBodies;
-use crate::rotor::{param_table, GearedRotor, Outputs, Params};
+use crate::rotor::{param_table, GearedRotor, Outputs, Params, ToothContact};
 use crate::sim::{Initialization, Input, OnViolation, SolverSettings};
 
 /// The value store: one f64 per variable, in table order (Integer, Boolean and
@@ -48,6 +48,7 @@ pub fn params(values: &Values) -> Result<Params, ParamError> {
         })?;
         q.set(&mut p, values[var.var as usize])?;
     }
+    p.tooth_contact = tooth_contact(values)?;
     Ok(p.with_solid_bodies())
 }
 
@@ -76,6 +77,14 @@ pub fn initialization(values: &Values) -> Result<Initialization, ParamError> {
     Initialization::from_code(x as i32)
         .filter(|_| x.fract() == 0.0)
         .ok_or_else(|| enum_error(Var::initialization, x))
+}
+
+/// The Enumeration parameter `tooth_contact` (docs/model.md §3.5).
+pub fn tooth_contact(values: &Values) -> Result<ToothContact, ParamError> {
+    let x = values[Var::tooth_contact as usize];
+    ToothContact::from_code(x as i32)
+        .filter(|_| x.fract() == 0.0)
+        .ok_or_else(|| enum_error(Var::tooth_contact, x))
 }
 
 /// The Enumeration parameter `on_lift_off`.
@@ -161,6 +170,10 @@ pub fn output_values(o: &Outputs, v: &mut Values) {
     v[Var::pairs_in_contact as usize] = f64::from(o.pairs_in_contact);
     v[Var::contact_lost as usize] = f64::from(u8::from(o.contact_lost));
     v[Var::stick as usize] = f64::from(u8::from(o.stick));
+    v[Var::mesh_deflection as usize] = o.mesh_deflection;
+    v[Var::mesh_stiffness as usize] = o.mesh_stiffness;
+    v[Var::mesh_state as usize] = f64::from(o.mesh_state);
+    v[Var::W_mesh_stiffness as usize] = o.w_mesh_stiffness;
     v[Var::u1_x as usize] = o.u1[0];
     v[Var::u1_y as usize] = o.u1[1];
     v[Var::u1_z as usize] = o.u1[2];

@@ -152,6 +152,16 @@ impl PeriodicSystem {
         if !(omega1 > 0.0 && omega1.is_finite()) {
             return Err(PeriodicError::InvalidSpeed { omega1 });
         }
+        if params.tooth_contact != crate::rotor::ToothContact::Rigid {
+            return Err(PeriodicError::Param(ParamError {
+                name: "tooth_contact",
+                value: f64::from(params.tooth_contact.code()),
+                requirement: "tooth_contact = rigid: the periodic solutions (initialization = \
+                              periodic, the periodic binary, gearstudy) do not handle the \
+                              elastic contact yet (issue 27)"
+                    .into(),
+            }));
+        }
         let mut model = GearedRotor::new(params)?;
         model.set_inputs(Inputs {
             omega1,
@@ -270,7 +280,7 @@ impl PeriodicSystem {
             rtol: Tolerance::Scalar(rtol),
             atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| rtol * scales[i])),
             max_steps: MAX_STEPS_PER_PERIOD * periods.max(1) as u64,
-            ..dae_structure()
+            ..dae_structure(crate::rotor::ToothContact::Rigid)
         }
     }
 

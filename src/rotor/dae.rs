@@ -2,18 +2,20 @@
 //! (`model.md` §5-§8).
 
 use super::params::{check_d_phi, check_mu};
-use super::{idx, FrictionLaw, Inputs, ModelError, Outputs, Params, NY};
+use super::{idx, FrictionLaw, Inputs, ModelError, Outputs, Params, ToothContact, NY};
 use crate::gear::{
     FrictionSums, IsoMean, Kinematics, Lubricant, Mesh, MeshError, PairGeometry, ParamError,
 };
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::PI;
 
+mod elastic;
 mod friction;
 mod hidden;
 mod memo;
 mod stick;
 
+pub use elastic::{ElasticContact, ElasticMesh};
 pub use stick::{RELEASE_BAND, STICK_RELAXATION};
 
 use friction::Asker;
@@ -59,6 +61,8 @@ pub struct GearedRotor {
     released: f64,
     /// Physical scale of each state component (`rotor::error_scales`).
     scales: [f64; NY],
+    /// The elastic mesh (`tooth_contact = elastic`, `model.md` §3.5); None for rigid teeth.
+    elastic: Option<ElasticMesh>,
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -102,6 +106,17 @@ impl GearedRotor {
         let geom = params.validate()?;
         let (r1, r2) = (params.rotor1, params.rotor2);
         let fp = params.friction;
+        let mass = [r1.m, r1.m, r1.m, r2.m, r2.m, r2.m, r2.j];
+        let elastic = match params.tooth_contact {
+            ToothContact::Rigid => None,
+            ToothContact::Elastic => Some(ElasticMesh::new(&geom, &mass, params.zeta_mesh).ok_or(
+                ParamError {
+                    name: "tooth_contact",
+                    value: 2.0,
+                    requirement: "an undeflected mesh for the elastic contact".into(),
+                },
+            )?),
+        };
         let iso = IsoMean::new(
             params.gear.b,
             geom.rb1,
@@ -118,7 +133,7 @@ impl GearedRotor {
             inputs: Inputs::default(),
             g0: 0.0,
             phi1_0: 0.0,
-            mass: [r1.m, r1.m, r1.m, r2.m, r2.m, r2.m, r2.j],
+            mass,
             damp: [
                 r1.d[0],
                 r1.d[1],
@@ -136,6 +151,7 @@ impl GearedRotor {
             stick: false,
             released: 0.0,
             scales: super::DEFAULT_PAIR_SCALES,
+            elastic,
         })
     }
 
@@ -193,6 +209,10 @@ impl GearedRotor {
     /// held now; the initialisation does this (`GearedRotor::initialize_with`).
     pub fn set_scales_for_start(&mut self, t0: f64) {
         self.scales = super::error_scales(self, t0);
+        if self.elastic.is_some() {
+            // The last slot holds an energy (§3.5).
+            self.scales[idx::LAMBDA] = self.scales[idx::E_IN];
+        }
     }
 
     /// Sets the held inputs.
@@ -268,9 +288,20 @@ impl GearedRotor {
     ) -> Result<(), ModelError> {
         let g = &self.geom;
         let m = self.mesh_for_f(t, y)?;
-        let lam = y[idx::LAMBDA];
+        // Elastic contact (§3.5): the normal force from the approach of the flanks; the
+        // last slot of y is the work stored in the mesh spring, not a multiplier.
+        let elastic = self.elastic.is_some().then(|| self.elastic_contact(y, &m));
+        let lam = match &elastic {
+            Some(c) => c.fn_,
+            None => y[idx::LAMBDA],
+        };
         let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
-        let fr = self.friction_resultants(t, y, &m, &sums, mu);
+        let fr = if elastic.is_some() {
+            // No stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
+            sums.resultants(mu, lam)
+        } else {
+            self.friction_resultants(t, y, &m, &sums, mu)
+        };
         let grow = g.constraint_row(&m);
         let v = idx::V;
         let omega1 = y[idx::OMEGA1];
@@ -301,10 +332,15 @@ impl GearedRotor {
         let t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;
         f[idx::E_IN] = t1 * omega1;
         f[idx::E_LOSS] = fr.p_loss;
-        f[idx::E_DAMP] = p_damp;
         f[idx::E_LOAD] = t_load * omega2;
-        // Velocity-level constraint (§3.3).
-        f[idx::LAMBDA] = gv - g.rb1 * g.cos_beta_b * omega1;
+        if let Some(c) = &elastic {
+            f[idx::E_DAMP] = p_damp + c.p_damp;
+            f[idx::LAMBDA] = c.p_spring;
+        } else {
+            f[idx::E_DAMP] = p_damp;
+            // Velocity-level constraint (§3.3).
+            f[idx::LAMBDA] = gv - g.rb1 * g.cos_beta_b * omega1;
+        }
         if !f.iter().all(|x| x.is_finite()) {
             return Err(ModelError::NonFinite { t, what: "f" });
         }
@@ -317,7 +353,9 @@ impl GearedRotor {
         for i in 0..7 {
             m[(idx::V + i, idx::V + i)] = self.mass[i];
         }
-        m[(idx::LAMBDA, idx::LAMBDA)] = 0.0;
+        if self.elastic.is_none() {
+            m[(idx::LAMBDA, idx::LAMBDA)] = 0.0;
+        }
         m
     }
 
@@ -334,7 +372,8 @@ impl GearedRotor {
     ) -> bool {
         // In the stick mode the stick force (4.13) depends on every state component; the
         // stepper's forward differences of f are taken there (stick phases are short).
-        !self.stick && self.eval_jacobian(t, y, jac).is_ok()
+        // The elastic contact (§3.5) takes them too (first version).
+        !self.stick && self.elastic.is_none() && self.eval_jacobian(t, y, jac).is_ok()
     }
 
     fn eval_jacobian(
@@ -501,6 +540,9 @@ impl GearedRotor {
     /// consistent (see above; r = 0 gives λ = 0).
     pub fn consistent_lambda(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, ModelError> {
         let m = self.mesh(t, y)?;
+        if self.elastic.is_some() {
+            return Ok(self.elastic_contact(y, &m).fn_);
+        }
         self.consistent_lambda_mode(t, y, &m, self.stick)
     }
 
@@ -632,11 +674,19 @@ impl GearedRotor {
             });
         }
         let m = self.mesh(t, &y)?;
-        y[idx::Q + 6] = -self.g0 - g.gap_raw(&m, 0.0);
+        // Rigid: g = 0. Elastic (§3.5): the static approach for the nominal load,
+        // g = -delta_0 / cos(beta_b) with delta_0 = lambda_nom / (c_l l).
+        let delta0 = self.static_approach(t, &m, ic.phi1, self.nominal_lambda(t))?;
+        y[idx::Q + 6] = -self.g0 - g.gap_raw(&m, 0.0) - delta0 / g.cos_beta_b;
         let grow = g.constraint_row(&m);
         let gv: f64 = grow.iter().zip(ic.u_dot.iter()).map(|(a, b)| a * b).sum();
         y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
-        y[idx::LAMBDA] = self.consistent_lambda(t, &y)?;
+        y[idx::LAMBDA] = if self.elastic.is_some() {
+            // The work stored in the mesh spring starts as its energy k delta_0^2 / 2.
+            self.elastic_contact(&y, &m).energy
+        } else {
+            self.consistent_lambda(t, &y)?
+        };
         Ok(y)
     }
 
@@ -737,6 +787,9 @@ impl GearedRotor {
     /// Every output of `model.md` §6 from the state and the inputs at t. When the mesh
     /// cannot be evaluated the contact quantities are NaN.
     pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
+        if self.elastic.is_some() {
+            return self.outputs_consistent(t, y);
+        }
         self.outputs_with(t, y, self.point_friction(t, y))
     }
 
@@ -756,6 +809,18 @@ impl GearedRotor {
     /// decided ([`GearedRotor::consistent_lambda`]; else the lambda of y), evaluating the
     /// mesh and the friction sums once for both (they do not depend on lambda).
     pub fn outputs_consistent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
+        if self.elastic.is_some() {
+            // The normal force follows from y's positions and velocities (§3.5).
+            let mut z = *y;
+            if let Ok(m) = self.mesh(t, y) {
+                z[idx::LAMBDA] = self.elastic_contact(y, &m).fn_;
+            }
+            let res = self.point_friction(t, &z);
+            let mut o = self.outputs_with(t, &z, res);
+            // The stiffness variation's work: spring energy minus the work stored.
+            o.w_mesh_stiffness = o.e_mesh_spring - y[idx::LAMBDA];
+            return o;
+        }
         if self.params.friction_law.load_dependent() {
             return self.outputs_consistent_load_dependent(t, y);
         }
@@ -864,6 +929,16 @@ impl GearedRotor {
             }
         };
         let fr = self.friction_resultants(t, y, &m, &sums, mu);
+        if self.elastic.is_some() {
+            let c = self.elastic_contact(y, &m);
+            o.mesh_deflection = c.delta;
+            o.mesh_stiffness = c.stiffness;
+            o.mesh_state = i32::from(c.in_contact);
+            o.e_mesh_spring = c.energy;
+            o.e_pot += c.energy;
+        } else {
+            o.mesh_state = 1;
+        }
         o.mu_eff = self.mean_coefficient(&sums, mu);
         o.mu_mz = self.iso.mu(lam, omega1, omega2);
         o.t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;

@@ -12,8 +12,10 @@ mod problem;
 mod scales;
 
 pub use crate::gear::FrictionLaw;
-pub use dae::{GearedRotor, InitialConditions, RELEASE_BAND, STICK_RELAXATION};
-pub use params::{Inputs, Params, RotorData};
+pub use dae::{
+    ElasticContact, ElasticMesh, GearedRotor, InitialConditions, RELEASE_BAND, STICK_RELAXATION,
+};
+pub use params::{Inputs, Params, RotorData, ToothContact};
 pub use problem::{dae_structure, RotorProblem};
 pub use scales::{error_scales, DEFAULT_PAIR_SCALES, SCALES};
 
@@ -53,7 +55,9 @@ pub mod idx {
     pub const E_DAMP: usize = 19;
     /// Energy taken by the load torque, E_load' = T_load omega2.
     pub const E_LOAD: usize = 20;
-    /// Lagrange multiplier lambda = normal contact force (index-2 variable).
+    /// Rigid contact: the Lagrange multiplier lambda = normal contact force (index-2
+    /// variable). Elastic contact (`model.md` §3.5): the work stored in the mesh spring,
+    /// `E_s' = k delta delta'` (a quadrature; the normal force is a function of the state).
     pub const LAMBDA: usize = 21;
 }
 
@@ -189,7 +193,7 @@ pub struct Outputs {
     pub e_load: f64,
     /// 1/2 q'^T M q' + 1/2 J1 omega1^2.
     pub e_kin: f64,
-    /// 1/2 q^T K q.
+    /// 1/2 q^T K q (+ the mesh spring energy 1/2 k delta^2 of the elastic contact).
     pub e_pot: f64,
     /// Total contact length l.
     pub contact_length: f64,
@@ -199,6 +203,18 @@ pub struct Outputs {
     pub contact_lost: bool,
     /// A spur contact line sticks at the pitch line (`model.md` §4.1).
     pub stick: bool,
+    /// Mesh spring energy `k delta^2 / 2` (elastic contact; part of `e_pot`), J.
+    pub e_mesh_spring: f64,
+    /// Work done on the mesh spring by the variation of its stiffness, `int k' delta^2 / 2
+    /// dt` (elastic contact: the spring energy minus the work the bodies stored in it), J.
+    pub w_mesh_stiffness: f64,
+    /// Normal approach of the drive flanks delta (elastic contact, `model.md` §3.5), m;
+    /// 0 for rigid teeth.
+    pub mesh_deflection: f64,
+    /// Mesh stiffness `k = c_l l` (elastic contact), N/m; 0 for rigid teeth.
+    pub mesh_stiffness: f64,
+    /// 1: the drive flanks touch, 0: free flight (elastic contact); 1 for rigid teeth.
+    pub mesh_state: i32,
     /// Displacement of centre 1.
     pub u1: [f64; 3],
     /// Displacement of centre 2.

@@ -1,6 +1,6 @@
 //! Every parameter of the geared rotor, described once: the rotor's own here
 //! ([`ROTOR_PARAMETERS`]), the pair's in `gear::GEAR_PARAMETERS`, the friction laws' in
-//! `gear::FRICTION_PARAMETERS`; [`all`] lists the 39 in one order (the order of the
+//! `gear::FRICTION_PARAMETERS`; [`all`] lists the 40 in one order (the order of the
 //! serialized state). Used by the FMU binding (value store -> [`Params`]), the `periodic`
 //! binary (parameter files), the FMU-state codec, the defaults and the validation; the
 //! model description declares the same names, units, start values and bounds, and a test
@@ -19,7 +19,7 @@ const FRICTION_LAWS: &str =
 /// inertia of 0 stands for the solid steel gear body of the geometry
 /// ([`Params::with_solid_bodies`](super::Params::with_solid_bodies)).
 #[rustfmt::skip]
-pub static ROTOR_PARAMETERS: [Parameter<Params>; 21] = [
+pub static ROTOR_PARAMETERS: [Parameter<Params>; 22] = [
     real("m1", "kg", 2.0, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.m, |p, x| p.rotor1.m = x),
     real("J1", "kg.m2", 1.0e-3, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.j, |p, x| p.rotor1.j = x),
     real("k1.x", "N/m", 2e8, Some(0.0), None, Rule::NonNegative, |p| p.rotor1.k[0], |p, x| p.rotor1.k[0] = x),
@@ -51,6 +51,7 @@ pub static ROTOR_PARAMETERS: [Parameter<Params>; 21] = [
         put: |p, x| p.friction_law = FrictionLaw::from_code(x as i32).unwrap_or_default(),
     },
     real("omega1_filter_frequency", "Hz", 1000.0, Some(1e-3), Some(1e6), Rule::Positive, |p| p.omega1_filter_hz, |p, x| p.omega1_filter_hz = x),
+    real("zeta_mesh", "1", 0.05, Some(0.0), Some(10.0), Rule::NonNegative, |p| p.zeta_mesh, |p, x| p.zeta_mesh = x),
 ];
 
 /// Position of d_phi in [`ROTOR_PARAMETERS`] (tunable: checked alone when set).

@@ -38,6 +38,41 @@ pub struct Params {
     pub omega1_filter_hz: f64,
     /// Parameters of friction laws 2-4 (v_reg, lubricant, roughness, materials).
     pub friction: FrictionParams,
+    /// Damping ratio of the elastic mesh (`model.md` §3.5); unused by the rigid contact.
+    pub zeta_mesh: f64,
+    /// The tooth contact model (FMU Enumeration `tooth_contact`, fixed; not in the
+    /// parameter table, like the binding's settings, but part of the model).
+    pub tooth_contact: ToothContact,
+}
+
+/// The tooth contact model (`model.md` §3.3, §3.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ToothContact {
+    /// 1: rigid teeth, the no-penetration constraint and its Lagrange multiplier (index 2).
+    #[default]
+    Rigid,
+    /// 2: elastic teeth on the drive flank: the normal force from the approach delta and
+    /// its rate, an algebraic (index-1) component in place of the multiplier.
+    Elastic,
+}
+
+impl ToothContact {
+    /// From the FMI code (1 rigid, 2 elastic).
+    pub fn from_code(code: i32) -> Option<Self> {
+        match code {
+            1 => Some(ToothContact::Rigid),
+            2 => Some(ToothContact::Elastic),
+            _ => None,
+        }
+    }
+
+    /// The FMI code.
+    pub fn code(self) -> i32 {
+        match self {
+            ToothContact::Rigid => 1,
+            ToothContact::Elastic => 2,
+        }
+    }
 }
 
 impl Default for Params {
@@ -64,6 +99,8 @@ impl Default for Params {
             friction_law: FrictionLaw::Coulomb,
             omega1_filter_hz: 0.0,
             friction: FrictionParams::default(),
+            zeta_mesh: 0.0,
+            tooth_contact: ToothContact::Rigid,
         };
         for q in &ROTOR_PARAMETERS {
             (q.put)(&mut p, q.default);

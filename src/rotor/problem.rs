@@ -1,7 +1,7 @@
 //! The rotor DAE as a RADAU5 [`Problem`] and the solver structure it has, shared by the
 //! co-simulation (`sim`) and the periodic solutions (`periodic`).
 
-use super::{idx, GearedRotor, NY};
+use super::{idx, GearedRotor, ToothContact, NY};
 use crate::radau5::{Options, Problem, RhsError};
 use nalgebra::{SMatrix, SVector};
 
@@ -44,12 +44,22 @@ impl Problem<NY> for RotorProblem {
 /// of 22 x 22 factorisations, radau5 `Options::quadrature`); `u_i' = v_i` (i < 6)
 /// eliminated from the linear systems, which leaves 12 x 12 LUs (radau5
 /// `Options::second_order`, Fortran IWORK(9..10)).
-pub fn dae_structure() -> Options<NY> {
+///
+/// With the elastic contact (`model.md` §3.5) there is no constraint: an ODE (`n1 = 22`,
+/// `n2 = 0`), whose last component, the work stored in the mesh spring, is a quadrature.
+pub fn dae_structure(contact: ToothContact) -> Options<NY> {
+    let (n1, n2) = match contact {
+        ToothContact::Rigid => (super::N_INDEX1, super::N_INDEX2),
+        ToothContact::Elastic => (NY, 0),
+    };
     Options {
-        n1: super::N_INDEX1,
-        n2: super::N_INDEX2,
+        n1,
+        n2,
         n3: 0,
-        quadrature: std::array::from_fn(|i| (idx::E_IN..=idx::E_LOAD).contains(&i)),
+        quadrature: std::array::from_fn(|i| {
+            (idx::E_IN..=idx::E_LOAD).contains(&i)
+                || (i == idx::LAMBDA && contact == ToothContact::Elastic)
+        }),
         second_order: Some((6, idx::V)),
         ..Options::default()
     }

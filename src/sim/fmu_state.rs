@@ -12,7 +12,7 @@ use crate::bytes::{DecodeError, Reader, Writer};
 use crate::fmt_num::Short;
 use crate::parameter::Kind;
 use crate::radau5::{Radau5, Snapshot};
-use crate::rotor::{param_table, GearedRotor, Inputs, Params, RotorProblem, NY};
+use crate::rotor::{param_table, GearedRotor, Inputs, Params, RotorProblem, ToothContact, NY};
 use nalgebra::SVector;
 
 /// The model state at initialisation; replayed when a serialized state is loaded, so that
@@ -103,7 +103,8 @@ impl Simulation {
         };
         let mut solver = Radau5::new(
             &mut problem,
-            s.settings.options(s.model.scales()),
+            s.settings
+                .options_for(s.model.scales(), s.model.params().tooth_contact),
             s.init.t_start,
             s.init.y0,
         )
@@ -140,6 +141,8 @@ pub(super) fn write_params(w: &mut Writer, p: &Params) {
             Kind::Real => w.f64(q.get(p)),
         }
     }
+    // The contact model (not in the table: the binding's Enumeration `tooth_contact`).
+    w.i32(p.tooth_contact.code());
 }
 
 /// Reads what [`write_params`] wrote (reals must be finite, codes known).
@@ -154,6 +157,10 @@ pub(super) fn read_params(r: &mut Reader) -> Result<Params, DecodeError> {
             message: e.to_string(),
         })?;
     }
+    let code = r.i32("tooth_contact")?;
+    p.tooth_contact = ToothContact::from_code(code).ok_or_else(|| DecodeError {
+        message: format!("tooth_contact = {code}: not 1 (rigid) or 2 (elastic)"),
+    })?;
     Ok(p)
 }
 

@@ -160,7 +160,8 @@ impl Simulation {
                     .map_err(SimError::Init)?;
         }
         init.y0 = y0;
-        let options = settings.options(problem.model.scales());
+        let options =
+            settings.options_for(problem.model.scales(), problem.model.params().tooth_contact);
         let solver =
             Radau5::new(&mut problem, options, t_start, y0).map_err(|e| solver_err(e, t_start))?;
         let contact_lost = y0[idx::LAMBDA] < 0.0;
@@ -266,11 +267,13 @@ impl Simulation {
     fn restart_state(&mut self, t: f64) -> Result<SVector<f64, NY>, SimError> {
         self.sync()?;
         let mut y = *self.solver.y();
-        y[idx::LAMBDA] = self
-            .problem
-            .model
-            .consistent_lambda(t, &y)
-            .map_err(SimError::Model)?;
+        if !self.problem.model.is_elastic() {
+            y[idx::LAMBDA] = self
+                .problem
+                .model
+                .consistent_lambda(t, &y)
+                .map_err(SimError::Model)?;
+        }
         Ok(y)
     }
 

@@ -4,7 +4,7 @@
 use super::mesh_events::MESH_EVENT_RESUME;
 use crate::parameter::ParamError;
 use crate::radau5::{Options, Tolerance};
-use crate::rotor::{dae_structure, idx, NY};
+use crate::rotor::{dae_structure, idx, ToothContact, NY};
 use nalgebra::SVector;
 
 /// Factor on rtol for phi1 (see `rotor::DEFAULT_PAIR_SCALES`): with 1e-3 the relative part stays below the
@@ -62,6 +62,12 @@ impl SolverSettings {
     /// the state components (`scales`: `GearedRotor::scales`), the DAE's structure
     /// (`rotor::dae_structure`), h_max, the step budget and the resumption after a stop.
     pub fn options(&self, scales: &[f64; NY]) -> Options<NY> {
+        self.options_for(scales, ToothContact::Rigid)
+    }
+
+    /// [`SolverSettings::options`] for the contact model `contact` (the index counts of
+    /// `rotor::dae_structure`).
+    pub fn options_for(&self, scales: &[f64; NY], contact: ToothContact) -> Options<NY> {
         Options::<NY> {
             rtol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| {
                 if i == idx::PHI1 {
@@ -77,7 +83,7 @@ impl SolverSettings {
             max_steps: MAX_STEPS_PER_INTERVAL,
             // Clipped steps end on mesh events (kinks of f) here, not on smooth points.
             resume_after_stop: MESH_EVENT_RESUME,
-            ..dae_structure()
+            ..dae_structure(contact)
         }
     }
 }

@@ -98,7 +98,9 @@ impl SimState {
         let restart_due = self.restart_pending && self.t_comm == self.solver.t();
         self.solver
             .check(
-                &self.settings.options(self.model.scales()),
+                &self
+                    .settings
+                    .options_for(self.model.scales(), self.model.params().tooth_contact),
                 Some(&mass),
                 restart_due,
             )
@@ -125,6 +127,18 @@ impl SimState {
             }
         }
         let (t, y) = (self.solver.t(), self.solver.y());
+        if self.model.is_elastic() {
+            // No constraint with the elastic contact (model.md §3.5): the model must only
+            // evaluate the state.
+            let mut model = self.model.clone();
+            let mut f = SVector::<f64, NY>::zeros();
+            return model.rhs(t, y, &mut f).map(|_| ()).map_err(|e| {
+                refuse(format!(
+                    "the model rejects the state at t = {}: {e}",
+                    Short(t)
+                ))
+            });
+        }
         let residual = self.constraint_residual(t, y)?;
         let g = self.model.geometry();
         let tol = CONSTRAINT_FACTOR

@@ -80,20 +80,34 @@ pub struct Violation {
     pub value: f64,
 }
 
+/// A located instant in a message: 12 decimals (the location's resolution) while that
+/// stays within 17 significant digits (|t| < 1e4 s), else the shortest round-trip form.
+struct Instant(f64);
+
+impl fmt::Display for Instant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.abs() < 1e4 {
+            write!(f, "{:.12}", self.0)
+        } else {
+            write!(f, "{}", crate::fmt_num::Short(self.0))
+        }
+    }
+}
+
 impl fmt::Display for Violation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (t, ts, v) = (self.t, self.t_seen, self.value);
+        let (t, ts, v) = (Instant(self.t), self.t_seen, self.value);
         match self.kind {
             ViolationKind::LiftOff => write!(
                 f,
-                "lift-off at t = {t:.12} s: the normal contact force Fn became negative (Fn = {v:.6e} N at t = {ts} s). \
+                "lift-off at t = {t} s: the normal contact force Fn became negative (Fn = {v:.6e} N at t = {ts} s). \
                  Real teeth would separate here; the rigid single-flank contact of this model instead pulls them \
                  together, so the results from this instant on are outside the model's validity \
                  (reported once per episode; on_lift_off = discard stops the step here)"
             ),
             ViolationKind::DriveReversal => write!(
                 f,
-                "drive reversal at t = {t:.12} s: the filtered drive speed omega1_filtered became <= 0 \
+                "drive reversal at t = {t} s: the filtered drive speed omega1_filtered became <= 0 \
                  (omega1_filtered = {v:.6e} rad/s at t = {ts} s). The model assumes gear 1 drives in the positive \
                  sense, so the results from this instant on are outside the model's validity \
                  (reported once per episode; on_lift_off = discard stops the step here)"

@@ -57,6 +57,7 @@ impl GearedRotor {
     pub fn stick_possible(&self) -> bool {
         let law = self.params.friction_law;
         self.geom.tan_beta_b == 0.0
+            && self.params.tooth_contact == crate::rotor::ToothContact::Rigid
             && law.sharp_reversal()
             && (law != FrictionLaw::Coulomb || self.params.mu > 0.0)
     }

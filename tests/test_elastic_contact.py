@@ -1,0 +1,127 @@
+"""The elastic drive-flank contact through the packaged .fmu (tooth_contact = elastic,
+docs/model.md §3.5): the new variables' declarations, their rigid values, an elastic run
+whose outputs obey (3.13)-(3.17) and the energy balance (3.21), a rattle run without
+Discard or warning (with on_lift_off = discard), and the refusal of the periodic start.
+The physics checks against independent computations are in tests/elastic_contact.rs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from helpers.fmu_harness import FMI2_OK, call_status, run
+from helpers.gear_theory import GearData, geometry
+
+NEW_OUTPUTS = ["mesh_deflection", "mesh_stiffness", "mesh_state", "W_mesh_stiffness"]
+ENERGIES = ["E_in", "E_load", "E_kin", "E_pot", "E_loss", "E_damp", "W_mesh_stiffness"]
+
+
+def test_declarations(pkg):
+    tc = pkg.vars["tooth_contact"]
+    assert tc.causality == "parameter" and tc.variability == "fixed"
+    assert tc.type == "Enumeration" and pkg.start("tooth_contact") == 1
+    assert [i.name for i in tc.declaredType.items] == ["rigid", "elastic"]
+    assert pkg.start("zeta_mesh") == 0.05
+    for n in NEW_OUTPUTS:
+        assert pkg.vars[n].causality == "output", n
+
+
+def test_rigid_values_of_the_new_outputs(pkg):
+    tr = run(pkg, 2e-3, 1e-4, params={"T_load": 50.0}, record=NEW_OUTPUTS + ["Fn"])
+    assert np.all(tr["mesh_deflection"] == 0.0) and np.all(tr["mesh_stiffness"] == 0.0)
+    assert np.all(tr["mesh_state"] == 1) and np.all(tr["W_mesh_stiffness"] == 0.0)
+
+
+def balance(tr):
+    d = {n: tr[n] - tr[n][0] for n in ENERGIES}
+    return (d["E_in"] + d["W_mesh_stiffness"]
+            - (d["E_load"] + d["E_kin"] + d["E_pot"] + d["E_loss"] + d["E_damp"]))
+
+
+def test_elastic_run_follows_the_contact_law_and_balances_energy(pkg):
+    params = {"tooth_contact": 2, "initialization": 2, "T_load": 80.0}
+    tr = run(pkg, 0.01, 1e-4, params=params, tolerance=1e-8,
+             record=NEW_OUTPUTS + ENERGIES + ["Fn", "contact_length", "c_gamma_used"])
+    g = geometry(GearData())
+    cos_bb = math.cos(g.beta_b)
+    c_l = tr["c_gamma_used"][0] * cos_bb / g.eps_alpha
+    assert np.allclose(tr["mesh_stiffness"], c_l * tr["contact_length"], rtol=1e-12)
+    assert np.all(tr["mesh_state"] == 1) and np.all(tr["Fn"] > 0)
+    # Fn = k delta + damping: within a few per cent of the static relation.
+    static = tr["mesh_stiffness"] * tr["mesh_deflection"]
+    assert np.all(np.abs(tr["Fn"] - static) < 0.05 * tr["Fn"])
+    worst = np.max(np.abs(balance(tr))) / tr["E_in"][-1]
+    assert worst < 1e-8, worst
+
+
+def test_rattle_without_discard_or_warning(pkg):
+    w = 314.159
+    params = {"tooth_contact": 2, "initialization": 2, "d_phi": 0.01, "on_lift_off": 2,
+              "omega1": w}
+    inst = pkg.instance("rattle", logging_on=True)
+    try:
+        inst.initialize(params)
+        free, fn_min = 0, math.inf
+        h = 1e-4
+        for k in range(500):
+            t = k * h
+            inst.set({"omega1": w * (1 + 0.05 * math.sin(2 * math.pi * 30 * t))})
+            assert call_status(inst.do_step, h) == FMI2_OK, inst.messages()
+            o = inst.get(["Fn", "mesh_state"])
+            free += int(o["mesh_state"]) == 0
+            fn_min = min(fn_min, o["Fn"])
+        assert free > 10, free
+        assert fn_min >= 0.0
+        assert not inst.messages(min_status=1), inst.messages(min_status=1)
+    finally:
+        inst.terminate_and_free()
+
+
+def test_periodic_start_is_refused_in_elastic_mode(pkg):
+    inst = pkg.instance("periodic", logging_on=True)
+    try:
+        st = call_status(inst.initialize, {"tooth_contact": 2, "initialization": 3})
+        assert st != FMI2_OK
+        assert any("tooth_contact" in m for m in inst.messages()), inst.messages()
+    finally:
+        inst.terminate_and_free()
+
+
+def test_serialized_elastic_state_continues_identically(pkg):
+    """The FMU state carries the contact model: an elastic state deserialised into an
+    instance initialised with the default (rigid) contact continues as the original."""
+    from helpers.fmu_harness import Recorder
+
+    names = ["Fn", "TE", "mesh_deflection", "mesh_state", "E_pot", "W_mesh_stiffness"]
+    h = 1e-4
+
+    def steps(inst, n):
+        rec = Recorder(inst, names)
+        for _ in range(n):
+            inst.do_step(h, no_set_prior=False)
+            rec.sample()
+        return rec.trajectory()
+
+    inst = pkg.instance("elastic_state")
+    inst.initialize({"tooth_contact": 2, "T_load": 50.0})
+    for _ in range(20):
+        inst.do_step(h, no_set_prior=False)
+    t1 = inst.time
+    state = inst.slave.getFMUstate()
+    blob = inst.slave.serializeFMUstate(state)
+    inst.slave.freeFMUstate(state)
+    first = steps(inst, 30)
+    inst.terminate_and_free()
+    assert np.all(first["mesh_deflection"] > 0)
+
+    other = pkg.instance("rigid_then_elastic")
+    other.initialize({"T_load": 50.0})
+    s = other.slave.deSerializeFMUstate(blob)
+    other.slave.setFMUstate(s)
+    other.slave.freeFMUstate(s)
+    other.time = t1
+    again = steps(other, 30)
+    other.terminate_and_free()
+    for n in names:
+        assert np.array_equal(first[n], again[n]), n
