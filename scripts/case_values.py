@@ -86,6 +86,10 @@ def parse_set(md, text: str) -> tuple[str, float | int | bool]:
     if var.type in ("Integer", "Enumeration"):
         if value != round(value):
             raise SetError(f"--set {text!r}: {name} is {var.type}, give a whole number")
+        # FMI Integers are 32-bit: a larger number would wrap before the FMU sees it.
+        if not -2**31 <= value < 2**31:
+            raise SetError(f"--set {text!r}: {name} = {value:g} is outside the 32-bit range of an "
+                           "FMI Integer; give a value within the variable's bounds")
         return name, int(round(value))
     return name, value
 

@@ -54,6 +54,7 @@ def _refused(r: subprocess.CompletedProcess, *words: str) -> None:
     ("mu=0.1rpm", ["unit 'rpm'", "mu"]),
     ("z2=0", ["z2 = 0", "at least 5 teeth"]),
     ("z1=0", ["z1 = 0", "at least 5 teeth"]),
+    ("z2=1e30", ["z2 = 1e+30", "32-bit"]),
 ])
 def test_main_job_refuses_bad_settings_by_name(fmu_path, tmp_path, setting, words):
     r = _main_job(fmu_path, tmp_path, "--set", setting)

@@ -163,6 +163,10 @@ class Catalog:
         if v.type in ("Integer", "Enumeration"):
             if number != int(number):
                 raise StudyError(f"{label}: '{name}' is {v.type}; give a whole number")
+            # FMI Integers are 32-bit: a larger number would wrap before the FMU sees it.
+            if not -2**31 <= number < 2**31:
+                raise StudyError(f"{label}: '{name}' = {number:g} is outside the 32-bit range of "
+                                 "an FMI Integer")
             return int(number)
         if v.type != "Real":
             raise StudyError(f"{label}: variables of type {v.type} cannot be set by a study")
