@@ -1,26 +1,21 @@
 //! Friction law 5, Benedict & Kelley (1961) (docs/friction.md): the coefficient against
 //! an independent evaluation of the formula in its original imperial units at six
 //! operating points, the unit conversions by hand numbers, the bound below v_reg, the
-//! segment integrals against a fine reference quadrature, the energy balance of a run,
-//! no allocation in f, the Jacobian, the consistent lambda and the outputs, and the
-//! roughness bound of the parameters.
+//! segment integrals against a fine reference quadrature, the energy balance of a spur
+//! run through the simulation, and the roughness bound of the parameters. The helical
+//! energy balance, the Jacobian and the allocation count run for every law, law 5
+//! included, in tests/rotor_friction_laws.rs and tests/rotor_friction_alloc.rs.
 
 mod common;
 
-use common::alloc::count;
 use common::quad::gauss_legendre;
-use common::rotor::{driven, masses};
 use geared_rotor::gear::friction::benedict_kelley::{
     mu_benedict_kelley, roughness_factor, BkLine, K_SI,
 };
 use geared_rotor::gear::FrictionLaw;
-use geared_rotor::rotor::{idx, GearedRotor, Inputs, Params, NY};
+use geared_rotor::rotor::{GearedRotor, Params};
 use geared_rotor::sim::{Simulation, SolverSettings};
-use nalgebra::{SMatrix, SVector};
 use std::f64::consts::PI;
-
-#[global_allocator]
-static GLOBAL: common::alloc::Counting = common::alloc::Counting;
 
 /// The formula as published, in its own units: W lbf/in, nu0 cP, V_s and V_r in/s,
 /// S micro-inch (Benedict & Kelley 1961, as restated by He, Cho & Singh 2008).
@@ -225,112 +220,6 @@ fn segment_integrals_match_a_fine_reference_quadrature() {
     println!("law 5 segment integrals: worst error {worst:.2e} of the natural scale");
 }
 
-fn deriv(model: &mut GearedRotor, ms: &[f64; 7], t: f64, y: &SVector<f64, NY>) -> SVector<f64, NY> {
-    let mut y = *y;
-    y[idx::LAMBDA] = model.consistent_lambda(t, &y).unwrap();
-    let mut f = SVector::<f64, NY>::zeros();
-    model.rhs(t, &y, &mut f).unwrap();
-    for i in 0..7 {
-        f[idx::V + i] /= ms[i];
-    }
-    f[idx::LAMBDA] = 0.0;
-    f
-}
-
-/// RK4 with lambda from the hidden constraint at every stage (as tests/rotor_friction_laws.rs),
-/// the default helical pair at 3000 rpm, 50 N m, 30 mesh periods. (A fixed step cannot
-/// resolve the jumps of the load per length where a spur line enters: the spur pair is
-/// run by the simulation below, which lands on those events.)
-#[test]
-fn energy_balance_closes() {
-    for beta in [20f64.to_radians()] {
-        let mut p = Params {
-            friction_law: FrictionLaw::BenedictKelley,
-            ..Params::default()
-        };
-        p.gear.beta = beta;
-        let omega1 = 314.159;
-        let mut model = driven(p, omega1);
-        model.set_inputs(Inputs {
-            omega1,
-            t_load: 50.0,
-            ..Inputs::default()
-        });
-        let (ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
-        let y0 = model.initialize_with(0.0, &ic).unwrap();
-        let ms = masses(&p);
-        let n = 100;
-        let h = 2.0 * PI / (27.0 * omega1) / n as f64;
-        let (mut t, mut y) = (0.0, y0);
-        let mut mu_seen = (f64::INFINITY, 0.0f64);
-        for _ in 0..30 * n {
-            let k1 = deriv(&mut model, &ms, t, &y);
-            let k2 = deriv(&mut model, &ms, t + 0.5 * h, &(y + 0.5 * h * k1));
-            let k3 = deriv(&mut model, &ms, t + 0.5 * h, &(y + 0.5 * h * k2));
-            let k4 = deriv(&mut model, &ms, t + h, &(y + h * k3));
-            y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-            t += h;
-            y[idx::LAMBDA] = model.consistent_lambda(t, &y).unwrap();
-            let mu = model.outputs(t, &y).mu_eff;
-            mu_seen = (mu_seen.0.min(mu), mu_seen.1.max(mu));
-        }
-        let (o0, o) = (model.outputs(0.0, &y0), model.outputs(t, &y));
-        let bal =
-            o.e_in - o.e_loss - o.e_damp - o.e_load - (o.e_kin - o0.e_kin) - (o.e_pot - o0.e_pot);
-        println!(
-            "law 5, beta {:.0} deg: energy balance residual {:.2e} of E_in = {:.4} J \
-             (E_loss {:.5} J), mu_eff {:.4}..{:.4}",
-            beta.to_degrees(),
-            bal / o.e_in,
-            o.e_in,
-            o.e_loss,
-            mu_seen.0,
-            mu_seen.1
-        );
-        assert!(bal.abs() < 1e-8 * o.e_in, "beta {beta}: {bal:e} J");
-        assert!(o.e_loss > 0.0);
-        assert!(mu_seen.0 > 0.01 && mu_seen.1 < 0.2, "{mu_seen:?}");
-    }
-}
-
-#[test]
-fn law5_evaluates_without_allocation() {
-    assert!(count(|| drop(std::hint::black_box(vec![1u8; 16]))) >= 1);
-    for beta in [20f64.to_radians(), 0.0] {
-        let mut p = Params {
-            friction_law: FrictionLaw::BenedictKelley,
-            ..Params::default()
-        };
-        p.gear.beta = beta;
-        let mut model = GearedRotor::new(p).unwrap();
-        model.set_inputs(Inputs {
-            omega1: 314.159,
-            t_load: 50.0,
-            ..Inputs::default()
-        });
-        let (ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
-        let y0 = model.initialize_with(0.0, &ic).unwrap();
-        let mut f = SVector::<f64, NY>::zeros();
-        let mut jac = SMatrix::<f64, NY, NY>::zeros();
-        let n = count(|| {
-            for i in 0..500 {
-                let mut y = y0;
-                y[idx::PHI1] = i as f64 * 1e-3;
-                y[idx::V + 2] = 1e-3 * (i as f64).sin();
-                model.rhs(0.0, &y, &mut f).unwrap();
-                std::hint::black_box(model.consistent_lambda(0.0, &y).unwrap());
-                std::hint::black_box(model.outputs_consistent(0.0, &y));
-            }
-            for i in 0..20 {
-                let mut y = y0;
-                y[idx::PHI1] = i as f64 * 1e-3;
-                assert!(model.jacobian(0.0, &y, &mut jac));
-            }
-        });
-        assert_eq!(n, 0, "beta {beta}: {n} allocations");
-    }
-}
-
 #[test]
 fn law5_is_continuous_at_the_reversal_and_rejects_rough_flanks() {
     assert!(!FrictionLaw::BenedictKelley.sharp_reversal());
@@ -385,82 +274,8 @@ fn spur_pair_energy_balance_closes_in_the_simulation() {
         );
         assert!(res.abs() <= 1e-8, "{rpm} rpm: {res:e}");
         assert!(o.e_loss > 0.0);
+        assert!(mu.0 > 0.01 && mu.1 < 0.2, "{rpm} rpm: mu_eff {mu:?}");
     }
-}
-
-/// The Jacobian against central differences of f (as tests/rotor_friction_laws.rs for
-/// laws 1-4): every entry to 1e-3 of its row scale, and the lambda column (law 5's
-/// coefficient depends on the line load: a difference of the friction evaluation) to 1e-6
-/// of its own scale.
-#[test]
-fn jacobian_matches_central_differences() {
-    let mut rng = common::rng::Rng(65);
-    let p = Params {
-        friction_law: FrictionLaw::BenedictKelley,
-        ..Params::default()
-    };
-    let mut model = GearedRotor::new(p).unwrap();
-    let mut worst: f64 = 0.0;
-    for _ in 0..10 {
-        model.set_inputs(Inputs {
-            omega1: 314.159 + rng.sym(50.0),
-            t_load: 50.0 + rng.sym(50.0),
-            ..Inputs::default()
-        });
-        let (mut ic, _) = model.static_equilibrium(0.0, 0.0).unwrap();
-        for j in 0..6 {
-            ic.u[j] += rng.sym(2e-6);
-            ic.u_dot[j] = rng.sym(0.02);
-        }
-        ic.phi1 = rng.sym(10.0);
-        let y = model.initialize_with(0.0, &ic).unwrap();
-        let mut jac = SMatrix::<f64, NY, NY>::zeros();
-        assert!(model.jacobian(0.0, &y, &mut jac));
-        let mut fp = SVector::<f64, NY>::zeros();
-        let mut fm = SVector::<f64, NY>::zeros();
-        for j in 0..NY {
-            let h = if j < 7 {
-                1e-8
-            } else {
-                1e-7 * y[j].abs().max(1e-2)
-            };
-            let (mut yp, mut ym) = (y, y);
-            yp[j] += h;
-            ym[j] -= h;
-            model.rhs(0.0, &yp, &mut fp).unwrap();
-            model.rhs(0.0, &ym, &mut fm).unwrap();
-            for i in 0..NY {
-                let fd = (fp[i] - fm[i]) / (yp[j] - ym[j]);
-                let row = (0..NY)
-                    .map(|k| jac[(i, k)].abs())
-                    .fold(0.0, f64::max)
-                    .max(1e-300);
-                let e = (fd - jac[(i, j)]).abs() / row;
-                worst = worst.max(e);
-                assert!(e < 1e-3, "d f{i}/d y{j}: jac {} fd {fd}", jac[(i, j)]);
-            }
-        }
-    }
-    let y = model.initialize(0.0).unwrap();
-    let mut jac = SMatrix::<f64, NY, NY>::zeros();
-    assert!(model.jacobian(0.0, &y, &mut jac));
-    let l = idx::LAMBDA;
-    let h = 1e-6 * y[l].abs();
-    let (mut yp, mut ym) = (y, y);
-    yp[l] += h;
-    ym[l] -= h;
-    let mut fp = SVector::<f64, NY>::zeros();
-    let mut fm = SVector::<f64, NY>::zeros();
-    model.rhs(0.0, &yp, &mut fp).unwrap();
-    model.rhs(0.0, &ym, &mut fm).unwrap();
-    let col = (0..NY).map(|i| jac[(i, l)].abs()).fold(0.0, f64::max);
-    let mut e_col: f64 = 0.0;
-    for i in 0..NY {
-        let fd = (fp[i] - fm[i]) / (2.0 * h);
-        e_col = e_col.max((fd - jac[(i, l)]).abs() / col);
-    }
-    println!("law 5: max |J - FD| / max|row| = {worst:.2e}, lambda column {e_col:.2e}");
-    assert!(e_col < 1e-6, "lambda column {e_col:e}");
 }
 
 /// Near standstill kappa is tiny and the point x = 0 lies far outside the segment

@@ -35,6 +35,7 @@
 //! No allocation.
 
 use super::ehl::batch_math;
+use super::ehl::rules::{GL8_W, GL8_X};
 use super::LineIntegrals;
 
 /// Benedict & Kelley's leading factor 0.0127.
@@ -233,13 +234,12 @@ impl BkLine {
         if !(sb > sa) {
             return;
         }
-        let h = 0.5 * (sb - sa);
-        let m = 0.5 * (sa + sb);
+        let len = sb - sa;
         let y2 = y * y;
         let (mut s, mut x, mut r2, mut r, mut re, mut arg) =
             ([0.0; 8], [0.0; 8], [0.0; 8], [0.0; 8], [0.0; 8], [0.0; 8]);
         for i in 0..8 {
-            s[i] = m + h * GL8_T[i];
+            s[i] = sa + len * GL8_X[i];
             x[i] = x0 - kappa * s[i];
             r2[i] = x[i] * x[i] + y2;
             r[i] = r2[i].sqrt();
@@ -256,7 +256,7 @@ impl BkLine {
         }
         for i in 0..8 {
             let mu = (self.b * (self.ln_k - lnv[i])).max(0.0);
-            let wg = h * GL8_V[i] * mu / re[i];
+            let wg = len * GL8_W[i] * mu / re[i];
             acc.ix += wg * x[i];
             acc.iy += wg;
             acc.kx += wg * x[i] * s[i];
@@ -292,32 +292,6 @@ impl Acc {
         )
     }
 }
-
-/// Gauss-Legendre 8-point nodes (positive half) on [-1, 1].
-#[allow(clippy::excessive_precision)]
-const GL8_X: [f64; 4] = [
-    0.183_434_642_495_649_804_939_476_142_360_184,
-    0.525_532_409_916_328_985_817_739_049_189_254,
-    0.796_666_477_413_626_739_591_553_936_475_830,
-    0.960_289_856_497_536_231_683_560_868_569_473,
-];
-/// Gauss-Legendre 8-point weights matching [`GL8_X`].
-#[allow(clippy::excessive_precision)]
-const GL8_W: [f64; 4] = [
-    0.362_683_783_378_361_982_965_150_449_277_196,
-    0.313_706_645_877_887_287_337_962_201_986_601,
-    0.222_381_034_453_374_470_544_355_994_426_241,
-    0.101_228_536_290_376_259_152_531_354_309_962,
-];
-
-/// All eight nodes of [`GL8_X`] on [-1, 1], and their weights.
-const GL8_T: [f64; 8] = [
-    -GL8_X[3], -GL8_X[2], -GL8_X[1], -GL8_X[0], GL8_X[0], GL8_X[1], GL8_X[2], GL8_X[3],
-];
-/// The weights of [`GL8_T`].
-const GL8_V: [f64; 8] = [
-    GL8_W[3], GL8_W[2], GL8_W[1], GL8_W[0], GL8_W[0], GL8_W[1], GL8_W[2], GL8_W[3],
-];
 
 #[cfg(test)]
 mod tests {

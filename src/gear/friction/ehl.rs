@@ -40,7 +40,7 @@ use super::LineIntegrals;
 
 pub(crate) mod batch_math;
 pub mod quadrature;
-mod rules;
+pub(super) mod rules;
 
 /// Xu et al. (2007) coefficients b1..b9 for the 75W90 oil.
 pub const XU_B: [f64; 9] = [

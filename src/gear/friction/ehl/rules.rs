@@ -201,7 +201,7 @@ pub(super) const GL6_W: [f64; 6] = [
 ];
 /// Nodes of the 8-point Gauss-Legendre.
 #[allow(clippy::excessive_precision)]
-pub(super) const GL8_X: [f64; 8] = [
+pub(in crate::gear::friction) const GL8_X: [f64; 8] = [
     0.01985507175123188415821957,
     0.101666761293186630204223,
     0.2372337950418355070911305,
@@ -213,7 +213,7 @@ pub(super) const GL8_X: [f64; 8] = [
 ];
 /// Weights of the 8-point Gauss-Legendre.
 #[allow(clippy::excessive_precision)]
-pub(super) const GL8_W: [f64; 8] = [
+pub(in crate::gear::friction) const GL8_W: [f64; 8] = [
     0.05061426814518812957626568,
     0.111190517226687235272178,
     0.1568533229389436436689811,
