@@ -56,6 +56,27 @@ fn cpu_seconds() -> f64 {
     ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
 }
 
+/// The Real outputs the bench reads: all, or with `BENCH_OUTPUTS=T1` only T1 (the cost of
+/// the other outputs by difference).
+fn bench_outputs() -> Vec<u32> {
+    let only = std::env::var("BENCH_OUTPUTS").ok();
+    VARIABLES
+        .iter()
+        .filter(|v| v.causality == Causality::Output && v.ty == VarType::Real)
+        .filter(|v| only.as_deref().is_none_or(|o| o == v.name))
+        .map(|v| v.vr)
+        .collect()
+}
+
+/// The value reference of the Enumeration parameter friction_law (BENCH_LAW=N).
+fn law_vr() -> u32 {
+    VARIABLES
+        .iter()
+        .find(|v| v.name == "friction_law")
+        .expect("friction_law")
+        .vr
+}
+
 fn vr_of(name: &str) -> Option<u32> {
     VARIABLES
         .iter()
@@ -106,14 +127,7 @@ impl Fmu {
         if v3 {
             return Fmu::new3(h_fixed);
         }
-        // BENCH_OUTPUTS=T1: read only T1 (the cost of the other outputs by difference).
-        let only = std::env::var("BENCH_OUTPUTS").ok();
-        let outs: Vec<u32> = VARIABLES
-            .iter()
-            .filter(|v| v.causality == Causality::Output && v.ty == VarType::Real)
-            .filter(|v| only.as_deref().is_none_or(|o| o == v.name))
-            .map(|v| v.vr)
-            .collect();
+        let outs = bench_outputs();
         let vals = vec![0.0; outs.len()];
         let name = CString::new("closed_loop").unwrap();
         let guid = CString::new(GUID).unwrap();
@@ -130,9 +144,9 @@ impl Fmu {
             assert!(!c.is_null());
             assert_eq!(fmi2SetupExperiment(c, 1, 1e-6, 0.0, 0, 0.0), Fmi2Status::OK);
             assert_eq!(fmi2EnterInitializationMode(c), Fmi2Status::OK);
-            // BENCH_LAW=N: friction law N (Enumeration, value reference 1003).
+            // BENCH_LAW=N: friction law N (the Enumeration parameter friction_law).
             if let Some(law) = std::env::var("BENCH_LAW").ok().and_then(|s| s.parse().ok()) {
-                let vr = 1003;
+                let vr = law_vr();
                 assert_eq!(fmi2SetInteger(c, &vr, 1, &law), Fmi2Status::OK);
             }
             if h_fixed > 0.0 {
@@ -151,13 +165,7 @@ impl Fmu {
 
     /// The same instance through the FMI 3.0 functions.
     fn new3(h_fixed: f64) -> Fmu {
-        let only = std::env::var("BENCH_OUTPUTS").ok();
-        let outs: Vec<u32> = VARIABLES
-            .iter()
-            .filter(|v| v.causality == Causality::Output && v.ty == VarType::Real)
-            .filter(|v| only.as_deref().is_none_or(|o| o == v.name))
-            .map(|v| v.vr)
-            .collect();
+        let outs = bench_outputs();
         let vals = vec![0.0; outs.len()];
         let name = CString::new("closed_loop").unwrap();
         let guid = CString::new(GUID).unwrap();
@@ -182,7 +190,7 @@ impl Fmu {
                 .ok()
                 .and_then(|s| s.parse::<i32>().ok())
             {
-                let vr = 1003;
+                let vr = law_vr();
                 assert_eq!(c3::fmi3SetInt32(c, &vr, 1, &law, 1), Fmi3Status::OK);
             }
             if h_fixed > 0.0 {
