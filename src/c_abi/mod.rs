@@ -73,11 +73,11 @@ unsafe fn call(
     }
 }
 
-/// `(p, n)` as a slice; NULL is fine when n = 0.
+/// `(p, n)` as a slice; NULL is fine when n = 0 (shared by the FMI 2.0 and 3.0 shells).
 ///
 /// # Safety
 /// Non-NULL `p` must point to `n` valid elements.
-unsafe fn slice<'a, T>(
+pub(crate) unsafe fn slice<'a, T>(
     func: &'static str,
     arg: &'static str,
     p: *const T,
@@ -97,7 +97,7 @@ unsafe fn slice<'a, T>(
 ///
 /// # Safety
 /// Non-NULL `p` must point to `n` valid, writable elements.
-unsafe fn slice_mut<'a, T>(
+pub(crate) unsafe fn slice_mut<'a, T>(
     func: &'static str,
     arg: &'static str,
     p: *mut T,

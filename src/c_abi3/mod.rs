@@ -20,6 +20,7 @@ pub use state::*;
 pub use stubs::*;
 pub use values::*;
 
+use crate::c_abi::{slice, slice_mut};
 use crate::fmi2::model::Status;
 use crate::fmi3::types::*;
 use crate::fmi3::FMI3;
@@ -90,46 +91,6 @@ unsafe fn call(
         }),
     };
     status.into()
-}
-
-/// `(p, n)` as a slice; NULL is fine when n = 0.
-///
-/// # Safety
-/// Non-NULL `p` must point to `n` valid elements.
-unsafe fn slice<'a, T>(
-    func: &'static str,
-    arg: &'static str,
-    p: *const T,
-    n: usize,
-) -> Result<&'a [T], FmuError> {
-    if n == 0 {
-        Ok(&[])
-    } else if p.is_null() {
-        Err(FmuError::NullPointer { func, arg })
-    } else {
-        // SAFETY: caller contract.
-        Ok(unsafe { std::slice::from_raw_parts(p, n) })
-    }
-}
-
-/// Mutable variant of [`slice`].
-///
-/// # Safety
-/// Non-NULL `p` must point to `n` valid, writable elements.
-unsafe fn slice_mut<'a, T>(
-    func: &'static str,
-    arg: &'static str,
-    p: *mut T,
-    n: usize,
-) -> Result<&'a mut [T], FmuError> {
-    if n == 0 {
-        Ok(&mut [])
-    } else if p.is_null() {
-        Err(FmuError::NullPointer { func, arg })
-    } else {
-        // SAFETY: caller contract.
-        Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
-    }
 }
 
 const OK: Result<Status, FmuError> = Ok(Status::OK);
