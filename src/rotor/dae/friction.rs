@@ -27,8 +27,8 @@ impl GearedRotor {
     /// The friction sums of the state y at the normal force `lam` and the scalar
     /// coefficient that multiplies them in [`FrictionSums::resultants`]:
     /// law 1 and 2: mu (the sums carry the regularisation for law 2); law 3: mu_mz of
-    /// ISO/TR 14179-2 at |lam| and the speeds; law 4: 1 (the sums carry mu(s) at the line
-    /// load |lam| / l). For [`Asker::Outputs`] also the regularised law's mean coefficient
+    /// ISO/TR 14179-2 at |lam| and the speeds; laws 4 and 5: 1 (the sums carry mu(s) at the
+    /// line load |lam| / l). For [`Asker::Outputs`] also the regularised law's mean coefficient
     /// (law 2's `mu_len`; not needed in f). No allocation.
     ///
     /// # Errors
@@ -61,6 +61,15 @@ impl GearedRotor {
         let k = kinematics(y);
         let (phi1, psi0) = (y[idx::PHI1], self.params.psi0);
         let g = &self.geom;
+        // Laws 4 and 5: the load per unit length |lam| / l of the lines in contact.
+        let line_load = || {
+            let l = g.contact_summary(m, phi1, psi0).length;
+            if l > 0.0 {
+                Ok(lam.abs() / l)
+            } else {
+                Err(ModelError::NoContact { t })
+            }
+        };
         let (line, mu) = match self.params.friction_law {
             FrictionLaw::Coulomb => (LineLaw::Coulomb, self.params.mu),
             FrictionLaw::RegularisedCoulomb => (
@@ -72,13 +81,9 @@ impl GearedRotor {
             ),
             FrictionLaw::IsoMean => (LineLaw::Coulomb, self.iso.mu(lam, k.omega1, k.omega2)),
             FrictionLaw::LocalEhl => {
-                let l = g.contact_summary(m, phi1, psi0).length;
-                if !(l > 0.0) {
-                    return Err(ModelError::NoContact { t });
-                }
                 let e = EhlLine::new(
                     &self.lub,
-                    lam.abs() / l,
+                    line_load()?,
                     k.omega1,
                     k.omega2,
                     m.len_t1t2,
@@ -88,13 +93,9 @@ impl GearedRotor {
                 (LineLaw::Ehl(e), 1.0)
             }
             FrictionLaw::BenedictKelley => {
-                let l = g.contact_summary(m, phi1, psi0).length;
-                if !(l > 0.0) {
-                    return Err(ModelError::NoContact { t });
-                }
                 let fp = &self.params.friction;
                 let e = BkLine::new(
-                    lam.abs() / l,
+                    line_load()?,
                     fp.eta_oil,
                     fp.ra,
                     fp.v_reg,
