@@ -119,3 +119,20 @@ def test_damper_torque_and_power(fmu_path):
     assert math.isclose(r["T_damp"][-1], 0.7 * w2, rel_tol=1e-14)
     assert math.isclose(r["P_damp_phi"][-1], 0.7 * w2 * w2, rel_tol=1e-14)
     assert r["P_damp"][-1] >= r["P_damp_phi"][-1]  # P_damp adds the bearing dampers
+
+
+def test_h_v_iso_outside_its_derivation_is_warned_about(fmu_path):
+    # 60/60 teeth with h_aP = 1.3: eps_1 = eps_2 = 1.13 by hand (r_a = 31.3 m_n, r_b = 30 m_n
+    # cos 20 deg, a sin alpha = 60 m_n sin 20 deg: eps_alpha = (2 * 13.60 - 20.52) / 2.952 =
+    # 2.26); Ohlendorf's formula assumes eps_1, eps_2 <= 1.
+    log = []
+    start = {"z1": 60, "z2": 60, "h_aP": 1.3, "beta": 0.0}
+    res = _run(fmu_path, start, ["T1", "eps_alpha"], log=log)
+    assert 2.2 < float(res["eps_alpha"][-1]) < 2.3
+    w = [m for s, m in log if s == 1 and "H_V_iso" in m]
+    assert len(w) == 1, log
+    assert "eps_1 = 1.1" in w[0] and "eps_2 = 1.1" in w[0], w[0]
+    for pair in PAIRS.values():  # eps_1, eps_2 <= 1: no such warning
+        log = []
+        _run(fmu_path, pair[0], ["T1"], log=log)
+        assert not [m for s, m in log if "H_V_iso" in m], log

@@ -54,9 +54,14 @@ pub fn params(values: &Values) -> Result<Params, ParamError> {
 
 /// The warnings of the start (logged by fmi2ExitInitializationMode): gear bodies whose
 /// given masses or inertias are implausible for the geometry (`Params::implausible_bodies`),
-/// and friction law 3 outside its fitted range at the start inputs.
+/// friction law 3 outside its fitted range at the start inputs, and a pair outside the
+/// derivation of the standard's loss factor H_V_iso.
 pub fn init_warnings(model: &GearedRotor, t: f64) -> Vec<String> {
-    let mut out = model.params().implausible_bodies(model.geometry());
+    let g = model.geometry();
+    let mut out = model.params().implausible_bodies(g);
+    if let Some(w) = iso_mean::ohlendorf_outside(g.eps_1, g.eps_2) {
+        out.push(w);
+    }
     let outside = model.law3_outside_fitted_range(t);
     if !outside.is_empty() {
         out.push(format!(

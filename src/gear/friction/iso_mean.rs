@@ -112,6 +112,22 @@ pub fn ohlendorf_h_v(z1: f64, z2: f64, cos_beta_b: f64, eps_1: f64, eps_2: f64) 
         * (1.0 - (eps_1 + eps_2) + eps_1 * eps_1 + eps_2 * eps_2)
 }
 
+/// Why [`ohlendorf_h_v`] does not hold for a pair, if it does not: the formula places one
+/// double-contact zone on each side of the pitch point (approach and recess parts eps_1,
+/// eps_2 at most 1; then eps_alpha <= 2 and no triple contact). The model's own `H_V` is
+/// not affected.
+pub fn ohlendorf_outside(eps_1: f64, eps_2: f64) -> Option<String> {
+    (eps_1 > 1.0 || eps_2 > 1.0).then(|| {
+        format!(
+            "H_V_iso (Ohlendorf's loss factor of ISO/TR 14179-2) assumes approach and recess \
+             contact ratios eps_1, eps_2 <= 1; this pair has eps_1 = {eps_1:.4}, eps_2 = \
+             {eps_2:.4} (eps_alpha = {:.4}), so H_V_iso is outside its derivation; the \
+             model's H_V holds (docs/friction.md, two loss factors)",
+            eps_1 + eps_2
+        )
+    })
+}
+
 /// The operating range of Schlenk's fit as the secondary literature quotes it (the primary
 /// text could not be checked here): pitch-line speed v_t at least 1 m/s and transverse
 /// load per face width F_bt/b at least 150 N/mm (FZG efficiency tests of case-carburised,
