@@ -17,7 +17,8 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// 5: after the validity monitor, the contact-line stick mode (flag) and the release sense.
 /// 6: `zeta_mesh` in the parameter table, `tooth_contact` after it (elastic contact), and
 ///    the parameters of the ISO 6336-1 stiffness (`c_gamma`, `h_fP`).
-pub const VERSION: u32 = 6;
+/// 7: the backlash `j_bn` in the parameter table (coast flanks of the elastic contact).
+pub const VERSION: u32 = 7;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]

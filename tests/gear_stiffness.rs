@@ -36,6 +36,7 @@ fn example_1() -> GearData {
         a_w: 500e-3,
         h_fp: 1.4,
         c_gamma: 0.0,
+        j_bn: 0.0,
     }
 }
 

@@ -178,6 +178,9 @@ pub fn output_values(o: &Outputs, v: &mut Values) {
     v[Var::mesh_deflection as usize] = o.mesh_deflection;
     v[Var::mesh_stiffness as usize] = o.mesh_stiffness;
     v[Var::mesh_state as usize] = f64::from(o.mesh_state);
+    v[Var::Fn_coast as usize] = o.fn_coast;
+    // A count; f64 holds it exactly below 2^53, and the Integer getter clamps to i32.
+    v[Var::impacts as usize] = o.impacts as f64;
     v[Var::W_mesh_stiffness as usize] = o.w_mesh_stiffness;
     v[Var::u1_x as usize] = o.u1[0];
     v[Var::u1_y as usize] = o.u1[1];

@@ -39,6 +39,10 @@ pub struct GearData {
     /// Mean mesh stiffness per unit face width c_gamma in N/m^2; 0 = from ISO 6336-1
     /// ([`super::stiffness`]). Reported only until the elastic contact (issue 27).
     pub c_gamma: f64,
+    /// Normal backlash j_bn at the operating centre distance a_w, m: the play between the
+    /// coast flanks when the drive flanks touch undeflected ([`super::backlash`]); used
+    /// only by the elastic contact (`model.md` §3.6).
+    pub j_bn: f64,
 }
 
 /// 20 degrees in rad, as `20f64.to_radians()` computes it.
@@ -50,7 +54,7 @@ const BELOW_45_DEG: f64 = 0.785_398_163_397_448_2;
 /// automotive-size helical pair of `model.md` §10, declared bounds); their rules are
 /// those of [`PairGeometry::new`].
 #[rustfmt::skip]
-pub static GEAR_PARAMETERS: [Parameter<GearData>; 12] = [
+pub static GEAR_PARAMETERS: [Parameter<GearData>; 13] = [
     gear_param("z1", "", Kind::Integer, 27.0, Some(5.0), None, |g| f64::from(g.z1), |g, x| g.z1 = x as i32),
     gear_param("z2", "", Kind::Integer, 41.0, Some(5.0), None, |g| f64::from(g.z2), |g, x| g.z2 = x as i32),
     gear_param("m_n", "m", Kind::Real, 2.0e-3, Some(1e-300), None, |g| g.m_n, |g, x| g.m_n = x),
@@ -63,6 +67,7 @@ pub static GEAR_PARAMETERS: [Parameter<GearData>; 12] = [
     gear_param("a_w_set", "m", Kind::Real, 0.0, Some(0.0), None, |g| g.a_w, |g, x| g.a_w = x),
     gear_param("h_fP", "1", Kind::Real, 1.25, Some(1e-300), Some(2.0), |g| g.h_fp, |g, x| g.h_fp = x),
     gear_param("c_gamma", "N/m2", Kind::Real, 0.0, Some(0.0), None, |g| g.c_gamma, |g, x| g.c_gamma = x),
+    gear_param("j_bn", "m", Kind::Real, 1.0e-4, Some(0.0), None, |g| g.j_bn, |g, x| g.j_bn = x),
 ];
 
 #[allow(clippy::too_many_arguments)]
@@ -105,6 +110,7 @@ impl Default for GearData {
             a_w: 0.0,
             h_fp: 0.0,
             c_gamma: 0.0,
+            j_bn: 0.0,
         };
         for p in &GEAR_PARAMETERS {
             (p.put)(&mut g, p.default);
@@ -288,6 +294,15 @@ impl PairGeometry {
                 "c_gamma",
                 d.c_gamma,
                 "c_gamma >= 0 (0 = from ISO 6336-1)".into(),
+            ));
+        }
+        // Backlash (`backlash`, `model.md` §3.6): each gear is thinned by half of it, and
+        // half a module of thinning per gear leaves no tooth of a usual rack to speak of.
+        if !(d.j_bn >= 0.0 && d.j_bn <= 0.5 * d.m_n) {
+            return Err(err(
+                "j_bn",
+                d.j_bn,
+                format!("0 <= j_bn <= m_n / 2 = {} m", Short(0.5 * d.m_n)),
             ));
         }
         if !d.x1.is_finite() {

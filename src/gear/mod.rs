@@ -5,6 +5,7 @@
 // `!(a > b)` is used on purpose throughout: it also rejects NaN, which `a <= b` would let pass.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod backlash;
 pub mod contact_lines;
 pub mod friction;
 pub mod geometry;

@@ -9,6 +9,7 @@ use crate::gear::{
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::PI;
 
+mod coast;
 mod elastic;
 mod friction;
 mod hidden;
@@ -63,6 +64,9 @@ pub struct GearedRotor {
     scales: [f64; NY],
     /// The elastic mesh (`tooth_contact = elastic`, `model.md` §3.5); None for rigid teeth.
     elastic: Option<ElasticMesh>,
+    /// The coast flanks of the elastic contact (`model.md` §3.6): the mirrored pair. None
+    /// for rigid teeth and for the mirrored pair itself.
+    coast: Option<coast::CoastFlank>,
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -103,6 +107,12 @@ impl GearedRotor {
     /// # Errors
     /// The first violated parameter bound.
     pub fn new(params: Params) -> Result<Self, ParamError> {
+        Self::new_flank(params, true)
+    }
+
+    /// [`GearedRotor::new`]; `with_coast`: an elastic model gets its coast flanks (false
+    /// for the mirrored pair that carries them, `coast`).
+    fn new_flank(params: Params, with_coast: bool) -> Result<Self, ParamError> {
         let geom = params.validate()?;
         let (r1, r2) = (params.rotor1, params.rotor2);
         let fp = params.friction;
@@ -116,6 +126,14 @@ impl GearedRotor {
                     requirement: "an undeflected mesh for the elastic contact".into(),
                 },
             )?),
+        };
+        let coast = match (&elastic, with_coast) {
+            (Some(_), true) => Some(coast::CoastFlank::new(&params).ok_or(ParamError {
+                name: "j_bn",
+                value: params.gear.j_bn,
+                requirement: "a coast flank the mirrored pair can evaluate".into(),
+            })?),
+            _ => None,
         };
         let iso = IsoMean::new(
             params.gear.b,
@@ -152,6 +170,7 @@ impl GearedRotor {
             released: 0.0,
             scales: super::DEFAULT_PAIR_SCALES,
             elastic,
+            coast,
         })
     }
 
@@ -308,7 +327,17 @@ impl GearedRotor {
         let omega1_dot = y[idx::OMEGA1_DOT];
         let omega2 = y[v + 6];
         let t_load = self.inputs.t_load_at(t);
-        let qf = fr.generalised();
+        let mut qf = fr.generalised();
+        // The coast flanks (§3.6): their normal force and friction, zero while apart.
+        let coast = if elastic.is_some() {
+            let c = self.coast_terms(t, y, &m)?;
+            for (a, b) in qf.iter_mut().zip(c.q.iter()) {
+                *a += b;
+            }
+            c
+        } else {
+            coast::CoastTerms::default()
+        };
         let mut p_damp = 0.0;
         let mut gv = 0.0;
         for i in 0..6 {
@@ -329,13 +358,14 @@ impl GearedRotor {
         f[idx::OMEGA1] = omega1_dot;
         f[idx::OMEGA1_DOT] = wc * wc * (self.inputs.omega1_at(t) - omega1) - 2.0 * wc * omega1_dot;
         // Energy accumulators (§6, §9.6).
-        let t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;
+        let t1 =
+            lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot + coast.t1;
         f[idx::E_IN] = t1 * omega1;
-        f[idx::E_LOSS] = fr.p_loss;
+        f[idx::E_LOSS] = fr.p_loss + coast.p_loss;
         f[idx::E_LOAD] = t_load * omega2;
         if let Some(c) = &elastic {
-            f[idx::E_DAMP] = p_damp + c.p_damp;
-            f[idx::LAMBDA] = c.p_spring;
+            f[idx::E_DAMP] = p_damp + c.p_damp + coast.contact.p_damp;
+            f[idx::LAMBDA] = c.p_spring + coast.contact.p_spring;
         } else {
             f[idx::E_DAMP] = p_damp;
             // Velocity-level constraint (§3.3).
@@ -676,8 +706,15 @@ impl GearedRotor {
         let m = self.mesh(t, &y)?;
         // Rigid: g = 0. Elastic (§3.5): the static approach for the nominal load,
         // g = -delta_0 / cos(beta_b) with delta_0 = lambda_nom / (c_l l).
-        let delta0 = self.static_approach(t, &m, ic.phi1, self.nominal_lambda(t))?;
+        let lam_nom = self.nominal_lambda(t);
+        let delta0 = self.static_approach(t, &m, ic.phi1, lam_nom)?;
         y[idx::Q + 6] = -self.g0 - g.gap_raw(&m, 0.0) - delta0 / g.cos_beta_b;
+        if self.coast.is_some() && lam_nom < 0.0 {
+            // A reversed nominal load (§3.6): the coast flanks carry it, at their static
+            // approach; the drive gap is then the play (3.24) plus that approach.
+            let delta_c = self.coast_static_approach(t, &y, -lam_nom)?;
+            y[idx::Q + 6] += g.play_at(m.alpha) + delta_c / g.cos_beta_b;
+        }
         let grow = g.constraint_row(&m);
         let gv: f64 = grow.iter().zip(ic.u_dot.iter()).map(|(a, b)| a * b).sum();
         y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
@@ -817,6 +854,7 @@ impl GearedRotor {
             }
             let res = self.point_friction(t, &z);
             let mut o = self.outputs_with(t, &z, res);
+            self.add_coast_outputs(t, y, &mut o);
             // The stiffness variation's work: spring energy minus the work stored.
             o.w_mesh_stiffness = o.e_mesh_spring - y[idx::LAMBDA];
             return o;
@@ -932,7 +970,8 @@ impl GearedRotor {
         if self.elastic.is_some() {
             let c = self.elastic_contact(y, &m);
             o.mesh_deflection = c.delta;
-            o.mesh_stiffness = c.stiffness;
+            // The stiffness of the flanks in contact: 0 in free flight (§3.6).
+            o.mesh_stiffness = if c.in_contact { c.stiffness } else { 0.0 };
             o.mesh_state = i32::from(c.in_contact);
             o.e_mesh_spring = c.energy;
             o.e_pot += c.energy;

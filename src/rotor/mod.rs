@@ -211,10 +211,18 @@ pub struct Outputs {
     /// Normal approach of the drive flanks delta (elastic contact, `model.md` §3.5), m;
     /// 0 for rigid teeth.
     pub mesh_deflection: f64,
-    /// Mesh stiffness `k = c_l l` (elastic contact), N/m; 0 for rigid teeth.
+    /// Mesh stiffness `k = c_l l` of the flanks in contact (elastic contact; 0 in free
+    /// flight), N/m; 0 for rigid teeth.
     pub mesh_stiffness: f64,
-    /// 1: the drive flanks touch, 0: free flight (elastic contact); 1 for rigid teeth.
+    /// 1: the drive flanks touch, 0: free flight, -1: the coast flanks touch (elastic
+    /// contact, `model.md` §3.6); 1 for rigid teeth.
     pub mesh_state: i32,
+    /// Normal force of the coast flanks (elastic contact, `model.md` §3.6), N; 0 for
+    /// rigid teeth.
+    pub fn_coast: f64,
+    /// Contact onsets of the elastic flanks since the start (set by the simulation, which
+    /// locates them: `sim::contact_events`); 0 for rigid teeth.
+    pub impacts: u64,
     /// Displacement of centre 1.
     pub u1: [f64; 3],
     /// Displacement of centre 2.

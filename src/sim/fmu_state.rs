@@ -47,6 +47,8 @@ pub struct SimState {
     pub(super) validity: Monitor,
     /// Real-time mode (`realtime`): the fixed internal step bound, 0 = adaptive.
     pub(super) h_fixed: f64,
+    /// Contact onsets so far (`contact_events`).
+    pub(super) impacts: u64,
 }
 
 impl Simulation {
@@ -66,6 +68,7 @@ impl Simulation {
             last_successful_time: self.last_successful_time,
             validity: self.validity,
             h_fixed: self.h_fixed,
+            impacts: self.impacts,
         }
     }
 
@@ -86,6 +89,7 @@ impl Simulation {
             self.last_successful_time = s.last_successful_time;
             self.validity = s.validity;
             self.h_fixed = s.h_fixed;
+            self.impacts = s.impacts;
         } else {
             *self = Simulation::from_state(s)?;
         }
@@ -126,6 +130,7 @@ impl Simulation {
             init_report: InitReport::default(),
             max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
             h_fixed: s.h_fixed,
+            impacts: s.impacts,
         };
         sim.set_comm(s.t_comm);
         Ok(sim)
@@ -217,6 +222,8 @@ impl SimState {
         // The contact-line stick mode of f (model.md §4.1), since layout version 5.
         w.bool(self.model.stick());
         w.f64(self.model.released());
+        // Contact onsets of the elastic flanks, since layout version 7.
+        w.u64(self.impacts);
     }
 
     /// Reads what [`SimState::write`] wrote; the model is rebuilt by replaying its
@@ -300,6 +307,7 @@ impl SimState {
             .into());
         }
         problem.model.set_stick(stick, released);
+        let impacts = r.u64("impact count")?;
         Ok(SimState {
             solver,
             t_comm,
@@ -314,6 +322,7 @@ impl SimState {
             last_successful_time,
             validity,
             h_fixed,
+            impacts,
         })
     }
 }

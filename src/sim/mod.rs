@@ -27,6 +27,7 @@
 //! - a real-time mode with equal, bounded work per doStep ([`realtime`], `h_fixed > 0`).
 
 mod closed_loop;
+pub mod contact_events;
 mod error;
 mod fmu_state;
 pub mod init;
@@ -86,6 +87,8 @@ pub struct Simulation {
     max_internal_steps: u64,
     /// Real-time mode (`realtime`): the fixed internal step bound, 0 = adaptive.
     h_fixed: f64,
+    /// Contact onsets of the elastic flanks so far (`contact_events`; output `impacts`).
+    impacts: u64,
 }
 
 impl Simulation {
@@ -182,7 +185,14 @@ impl Simulation {
             init_report,
             max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
             h_fixed: 0.0,
+            impacts: 0,
         })
+    }
+
+    /// Contact onsets of the elastic flanks (drive or coast) since the start, each a
+    /// located state event (`contact_events`); 0 for rigid teeth.
+    pub fn impacts(&self) -> u64 {
+        self.impacts
     }
 
     /// What the initialisation did (zero counters for `rest` and `static_equilibrium`,

@@ -16,7 +16,9 @@ impl Simulation {
     pub fn outputs(&self) -> Outputs {
         let t = self.time();
         // = outputs(t, output_state(t, y)) with one mesh/friction evaluation instead of two.
-        self.problem.model.outputs_consistent(t, &self.y_comm)
+        let mut o = self.problem.model.outputs_consistent(t, &self.y_comm);
+        o.impacts = self.impacts;
+        o
     }
 
     /// The state for the outputs: y with lambda replaced by the value the hidden constraint

@@ -2,6 +2,7 @@
 //! stops internal steps at the mesh events the `mesh_events` part predicts, looks ahead
 //! across points while the input function stays the same, and reports what happened.
 
+use super::contact_events::{ContactEvent, MAX_CONTACT_REPORTED};
 use super::error::{solver_err, SimError};
 use super::stick::{StickChange, MAX_STICK_REPORTED};
 use super::validity::{self, Violation};
@@ -45,6 +46,11 @@ pub struct StepReport {
     pub stick_changes: [Option<StickChange>; MAX_STICK_REPORTED],
     /// Further ones not listed.
     pub stick_changes_dropped: u32,
+    /// Contact onsets and separations of the elastic flanks in this interval, in order
+    /// (`sim::contact_events`).
+    pub contact_events: [Option<ContactEvent>; MAX_CONTACT_REPORTED],
+    /// Further ones not listed.
+    pub contact_events_dropped: u32,
 }
 
 impl Simulation {
@@ -188,7 +194,10 @@ impl Simulation {
             // Stick transitions inside the step (located; the step may be retaken to end
             // at one).
             let r = match r {
-                Ok(_) if !entered => match self.stick_transitions(t_end, &mut report) {
+                Ok(_) if !entered => match self
+                    .stick_transitions(t_end, &mut report)
+                    .and_then(|()| self.contact_events(t_end, &mut report))
+                {
                     Ok(()) => Ok(self.solver.t()),
                     Err(e) => return Err(self.stop_at_last_step(t_end, e)),
                 },

@@ -90,15 +90,20 @@ impl GearedRotor {
         self.mesh(t, y).ok().map(|m| self.elastic_contact(y, &m))
     }
 
-    /// The normal approach delta of the flanks at the transmission-error coordinate `xi`
-    /// (gap (3.7) with the model's offset g0).
-    pub(crate) fn approach(&self, m: &Mesh, xi: f64) -> f64 {
-        -self.geom.cos_beta_b * (self.geom.gap_raw(m, xi) + self.g0)
-    }
-
     /// The elastic contact at y (mesh `m` of y). Zero stiffness quantities in the rigid
     /// model.
     pub(crate) fn elastic_contact(&self, y: &SVector<f64, NY>, m: &Mesh) -> ElasticContact {
+        self.elastic_contact_with(y, m, self.g0)
+    }
+
+    /// [`GearedRotor::elastic_contact`] with the gap offset `g0` given (the coast flank,
+    /// `coast`, evaluates the mirrored pair with the coast offset (3.28)).
+    pub(crate) fn elastic_contact_with(
+        &self,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        g0: f64,
+    ) -> ElasticContact {
         let Some(e) = self.elastic.as_ref() else {
             return ElasticContact {
                 in_contact: true,
@@ -111,7 +116,7 @@ impl GearedRotor {
         for (i, gi) in grow.iter().enumerate() {
             gv += gi * y[idx::V + i];
         }
-        let delta = self.approach(m, y[idx::Q + 6]);
+        let delta = -g.cos_beta_b * (g.gap_raw(m, y[idx::Q + 6]) + g0);
         let delta_dot = -(gv - g.rb1 * g.cos_beta_b * y[idx::OMEGA1]);
         let length = g.contact_summary(m, y[idx::PHI1], self.params.psi0).length;
         let stiffness = e.c_l * length;

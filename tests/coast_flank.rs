@@ -1,0 +1,239 @@
+//! The coast flanks and the backlash of the elastic contact (`tooth_contact = elastic`,
+//! docs/model.md §3.6): load reversal from the drive to the coast flank through the play,
+//! rattle on both flanks with located impacts, the energy balance with both flanks.
+
+use geared_rotor::gear::inv;
+use geared_rotor::rotor::{FrictionLaw, Outputs, Params, ToothContact};
+use geared_rotor::sim::contact_events::{ContactEvent, Flank};
+use geared_rotor::sim::{Initialization, Input, OnViolation, Simulation, SolverSettings};
+use std::f64::consts::PI;
+
+const OMEGA1: f64 = 314.159;
+
+fn elastic(p: Params) -> Params {
+    Params {
+        tooth_contact: ToothContact::Elastic,
+        ..p
+    }
+}
+
+/// A simulation from the static equilibrium that would stop (Discard) at any validity
+/// violation: the elastic contact must never raise one.
+fn sim(p: Params, rtol: f64, omega1: f64, t_load: f64) -> Simulation {
+    let s = SolverSettings { rtol, h_max: 1e-4 };
+    let init = Initialization::StaticEquilibrium;
+    let mut s = Simulation::with_initialization(p, s, 0.0, omega1, t_load, init).unwrap();
+    s.set_on_violation(OnViolation::Discard);
+    s
+}
+
+/// The energy balance of docs/model.md (3.21) over a run: the largest |supplied - used|
+/// since the start, over the largest energy it compares (|E_in| or E_kin, whichever is
+/// larger: in a rattle run E_kin ~ 170 J dwarfs the net E_in).
+#[derive(Default)]
+struct Balance {
+    worst: f64,
+    scale: f64,
+}
+
+impl Balance {
+    fn add(&mut self, o: &Outputs, o0: &Outputs) {
+        let supplied = o.e_in + (o.w_mesh_stiffness - o0.w_mesh_stiffness);
+        let used = o.e_load + (o.e_kin - o0.e_kin) + (o.e_pot - o0.e_pot) + o.e_loss + o.e_damp;
+        self.worst = self.worst.max((supplied - used).abs());
+        self.scale = self.scale.max(o.e_in.abs()).max(o.e_kin);
+    }
+    fn relative(&self) -> f64 {
+        self.worst / self.scale
+    }
+}
+
+/// T_load +100 -> -100 N m (ramp 20..25 ms), d_phi small enough that the load wins:
+/// drive flank -> free flight -> coast flank, no Discard and no warning; at the end the
+/// coast force balances the load and the drive gap is the play (3.24) plus the coast
+/// flanks' static approach.
+#[test]
+fn reversal_moves_through_the_play_to_the_coast_flank() {
+    for law in [FrictionLaw::Coulomb, FrictionLaw::LocalEhl] {
+        // Law 1 without friction: the torque balance of gear 2 is exact.
+        let mu = if law == FrictionLaw::Coulomb {
+            0.0
+        } else {
+            0.05
+        };
+        let d_phi = 0.05;
+        let p = elastic(Params {
+            d_phi,
+            mu,
+            friction_law: law,
+            ..Params::default()
+        });
+        let g = p.validate().unwrap();
+        // The energy quadratures are controlled relative to their own size (E_in ~ 500 J
+        // here) and the impact makes their integrands rough: 1e-8 needs rtol 1e-10
+        // (rtol 1e-8: 4.5e-6 of E_in).
+        let mut s = sim(p, 1e-10, OMEGA1, 100.0);
+        let o0 = s.outputs();
+        let h = 1e-4;
+        let (mut states, mut events) = (Vec::new(), Vec::new());
+        let mut bal = Balance::default();
+        let mut tail = Vec::new();
+        for k in 0..600 {
+            let t = k as f64 * h;
+            let tl = if t < 0.02 {
+                100.0
+            } else if t < 0.025 {
+                100.0 - 200.0 * (t - 0.02) / 0.005
+            } else {
+                -100.0
+            };
+            s.set_input(Input::TLoad, tl).unwrap();
+            let rep = s.do_step(t, h).unwrap();
+            events.extend(rep.contact_events.iter().flatten().copied());
+            assert!(rep.violations.iter().all(Option::is_none));
+            let o = s.outputs();
+            if states.last() != Some(&o.mesh_state) {
+                states.push(o.mesh_state);
+            }
+            bal.add(&o, &o0);
+            assert!(o.fn_ >= 0.0 && o.fn_coast >= 0.0);
+            assert!(o.mesh_state != 1 || o.fn_coast == 0.0);
+            if k >= 500 {
+                tail.push(o);
+            }
+        }
+        let n = tail.len() as f64;
+        let fc = tail.iter().map(|o| o.fn_coast).sum::<f64>() / n;
+        let omega2 = tail.iter().map(|o| o.omega2).sum::<f64>() / n;
+        // Gear 2 at constant speed: the coast force's torque carries the reversed load
+        // less the damper's torque.
+        let fc_static = (100.0 - d_phi * omega2) / (g.rb2 * g.cos_beta_b);
+        let o = tail.last().unwrap();
+        // The drive gap at the end from the centre positions (independent of the model's
+        // mesh code): play j_bn / cos(beta_b) + 2 R (inv alpha - inv alpha_wt) plus the
+        // coast flanks' static approach F_c / (k_c cos(beta_b)).
+        let dx = g.a_w + o.u2[0] - o.u1[0];
+        let dy = o.u2[1] - o.u1[1];
+        let alpha = (g.r_sum / dx.hypot(dy)).acos();
+        let play = p.gear.j_bn / g.cos_beta_b + 2.0 * g.r_sum * (inv(alpha) - inv(g.alpha_wt));
+        let gap_expected = play + o.fn_coast / (o.mesh_stiffness * g.cos_beta_b);
+        println!(
+            "{law:?}: mesh states {states:?}, events {:?}; mean Fn_coast {fc:.3} N vs static \
+             {fc_static:.3} N; drive gap {:.5e} m vs play + approach {gap_expected:.5e} m \
+             (play {play:.5e} m); TE {:.4e} -> {:.4e} m; energy balance {:.2e}; {}",
+            events
+                .iter()
+                .map(|e: &ContactEvent| (e.flank, e.onset))
+                .collect::<Vec<_>>(),
+            o.gap,
+            o0.te,
+            o.te,
+            bal.relative(),
+            s.stats()
+        );
+        assert_eq!(states, vec![1, 0, -1], "{law:?}");
+        assert_eq!(
+            (
+                events[0].flank,
+                events[0].onset,
+                events[1].flank,
+                events[1].onset
+            ),
+            (Flank::Drive, false, Flank::Coast, true)
+        );
+        assert_eq!(
+            o.impacts as usize,
+            events.iter().filter(|e| e.onset).count()
+        );
+        // Friction (law 4) adds its moment about gear 2's axis.
+        let tol = if mu == 0.0 { 1e-3 } else { 0.01 };
+        assert!(
+            (fc - fc_static).abs() < tol * fc_static,
+            "{law:?}: {fc} vs {fc_static}"
+        );
+        assert!((o.gap - gap_expected).abs() < 1e-3 * play, "{law:?}");
+        assert!(bal.relative() < 1e-8, "{law:?}: {:e}", bal.relative());
+    }
+}
+
+/// Rattle: no load torque, a small damper (d_phi 0.01), omega1 +-5 % at 30 Hz: the teeth
+/// fly through the play and hit both flanks; every onset is a located event, the impact
+/// count is the number of onsets, and the energy balance holds (laws 1 and 4).
+#[test]
+fn rattle_hits_both_flanks_with_located_impacts() {
+    for law in [FrictionLaw::Coulomb, FrictionLaw::LocalEhl] {
+        let p = elastic(Params {
+            d_phi: 0.01,
+            friction_law: law,
+            ..Params::default()
+        });
+        let omega1 = |t: f64| OMEGA1 * (1.0 + 0.05 * (2.0 * PI * 30.0 * t).sin());
+        let mut s = sim(p, 1e-10, OMEGA1, 0.0);
+        let o0 = s.outputs();
+        let h = 1e-4;
+        let mut bal = Balance::default();
+        let mut events = Vec::new();
+        let mut seen = [false; 3];
+        let cpu = std::time::Instant::now();
+        let n = 1000;
+        for k in 0..n {
+            let t = k as f64 * h;
+            s.set_input(Input::Omega1, omega1(t)).unwrap();
+            let rep = s.do_step(t, h).unwrap();
+            events.extend(rep.contact_events.iter().flatten().copied());
+            assert_eq!(rep.contact_events_dropped, 0);
+            let o = s.outputs();
+            seen[(o.mesh_state + 1) as usize] = true;
+            assert!(o.fn_ >= 0.0 && o.fn_coast >= 0.0);
+            bal.add(&o, &o0);
+        }
+        let cpu = cpu.elapsed().as_secs_f64();
+        let o = s.outputs();
+        let onsets: Vec<&ContactEvent> = events.iter().filter(|e| e.onset).collect();
+        let coast = onsets.iter().filter(|e| e.flank == Flank::Coast).count();
+        let drive = onsets.len() - coast;
+        println!(
+            "{law:?} rattle 0.1 s: {} impacts ({drive} drive, {coast} coast), {:.0} per \
+             second; energy balance {:.2e} of {:.1} J; CPU {cpu:.2} s at rtol 1e-10; {}",
+            o.impacts,
+            onsets.len() as f64 / (n as f64 * h),
+            bal.relative(),
+            bal.scale,
+            s.stats()
+        );
+        assert!(
+            seen.iter().all(|&x| x),
+            "{law:?}: mesh states seen {seen:?}"
+        );
+        assert!(
+            drive > 0 && coast > 0,
+            "{law:?}: {drive} drive, {coast} coast"
+        );
+        assert_eq!(o.impacts as usize, onsets.len());
+        assert!(bal.relative() < 1e-8, "{law:?}: {:e}", bal.relative());
+        // Every onset located to 1e-10 s: a second run stepped to 1e-10 s before and after
+        // the first onsets sees the force function negative before and positive after.
+        for e in onsets.iter().take(4) {
+            let k = usize::from(e.flank == Flank::Coast);
+            let mut sides = [0.0; 2];
+            for (j, dt) in [-1e-10, 1e-10].into_iter().enumerate() {
+                let mut r = sim(p, 1e-10, OMEGA1, 0.0);
+                let te = e.t + dt;
+                let mut t = 0.0;
+                while t < te - 1e-15 {
+                    let step = h.min(te - t);
+                    r.set_input(Input::Omega1, omega1((t / h).round() * h))
+                        .unwrap();
+                    r.do_step(t, step).unwrap();
+                    t += step;
+                }
+                sides[j] = r.model().flank_event_functions(r.time(), r.y()).unwrap()[k];
+            }
+            println!(
+                "onset {e:?}: force function {:.3e} / {:.3e} m",
+                sides[0], sides[1]
+            );
+            assert!(sides[0] <= 0.0 && sides[1] > 0.0, "{e:?}: {sides:?}");
+        }
+    }
+}
