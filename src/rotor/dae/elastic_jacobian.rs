@@ -5,8 +5,10 @@
 //! `lambda := Fn(y)` (partial derivatives at fixed lambda) plus its lambda column times
 //! `dFn/dy`. f does not depend on the last slot (the work stored in the mesh spring, a
 //! quadrature): its column is zero, and its row and the mesh damping's part of `E_damp`
-//! come from the derivatives of the two powers. Why not differences of f: 22 f evaluations
-//! per Jacobian, 45 % of all f evaluations of a loaded run.
+//! come from the derivatives of the two powers. Against the stepper's forward differences
+//! of f (22 evaluations) it takes the derivative of the active branch at the kinks of
+//! (3.15) and costs somewhat less, about 19 f (the friction columns are differences of the
+//! friction evaluation, as in the rigid model; docs/model.md §3.5 "Cost").
 //!
 //! The force law and the chain rule take one flank contact given by its approach, rate and
 //! contact length with their gradients ([`FlankState`]), so that a second contact (a coast
