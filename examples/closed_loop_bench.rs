@@ -33,6 +33,11 @@
 //! `fmi3DoStep`, `fmi3GetFloat64`; the same library, `c_abi3`); `BENCH_FMI=both` runs every
 //! case through both, the runs of the two alternated, and prints both rows and the ratio
 //! of their median CPU times (FMI 3.0 has no input derivatives: `omega1+der` is 2.0 only).
+//!
+//! `BENCH_CONTACT=elastic` runs the elastic tooth contact (`tooth_contact = elastic`,
+//! docs/model.md §3.5) instead of the rigid one; `BENCH_CONTACT=both` runs every case with
+//! both, the runs alternated, and prints the ratio elastic / rigid of the median CPU times
+//! (with `BENCH_FMI=both` too: FMI 2.0 only, one comparison at a time).
 
 use geared_rotor::c_abi::Instance;
 use geared_rotor::c_abi::*;
@@ -70,12 +75,20 @@ fn bench_outputs() -> Vec<u32> {
 
 /// The value reference of the Enumeration parameter friction_law (BENCH_LAW=N).
 fn law_vr() -> u32 {
+    enum_vr("friction_law")
+}
+
+/// The value reference of an Enumeration parameter.
+fn enum_vr(name: &str) -> u32 {
     VARIABLES
         .iter()
-        .find(|v| v.name == "friction_law")
-        .expect("friction_law")
+        .find(|v| v.name == name)
+        .expect("parameter")
         .vr
 }
+
+/// `tooth_contact = elastic` (Enumeration value 2).
+const ELASTIC: i32 = 2;
 
 fn vr_of(name: &str) -> Option<u32> {
     VARIABLES
@@ -123,9 +136,9 @@ struct Fmu {
 }
 
 impl Fmu {
-    fn new(h_fixed: f64, v3: bool) -> Fmu {
+    fn new(h_fixed: f64, v3: bool, elastic: bool) -> Fmu {
         if v3 {
-            return Fmu::new3(h_fixed);
+            return Fmu::new3(h_fixed, elastic);
         }
         let outs = bench_outputs();
         let vals = vec![0.0; outs.len()];
@@ -149,6 +162,10 @@ impl Fmu {
                 let vr = law_vr();
                 assert_eq!(fmi2SetInteger(c, &vr, 1, &law), Fmi2Status::OK);
             }
+            if elastic {
+                let vr = enum_vr("tooth_contact");
+                assert_eq!(fmi2SetInteger(c, &vr, 1, &ELASTIC), Fmi2Status::OK);
+            }
             if h_fixed > 0.0 {
                 let vr = vr_of("h_fixed").expect("h_fixed");
                 assert_eq!(fmi2SetReal(c, &vr, 1, &h_fixed), Fmi2Status::OK);
@@ -164,7 +181,7 @@ impl Fmu {
     }
 
     /// The same instance through the FMI 3.0 functions.
-    fn new3(h_fixed: f64) -> Fmu {
+    fn new3(h_fixed: f64, elastic: bool) -> Fmu {
         let outs = bench_outputs();
         let vals = vec![0.0; outs.len()];
         let name = CString::new("closed_loop").unwrap();
@@ -192,6 +209,10 @@ impl Fmu {
             {
                 let vr = law_vr();
                 assert_eq!(c3::fmi3SetInt32(c, &vr, 1, &law, 1), Fmi3Status::OK);
+            }
+            if elastic {
+                let vr = enum_vr("tooth_contact");
+                assert_eq!(c3::fmi3SetInt32(c, &vr, 1, &ELASTIC, 1), Fmi3Status::OK);
             }
             if h_fixed > 0.0 {
                 let vr = vr_of("h_fixed").expect("h_fixed");
@@ -322,8 +343,8 @@ fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
     m.nsol = m.nsol.max(d.nsol);
 }
 
-fn run(case: Case, h: f64, per_call_cpu: bool, v3: bool) -> RunResult {
-    let mut f = Fmu::new(case.h_fixed, v3);
+fn run(case: Case, h: f64, per_call_cpu: bool, v3: bool, elastic: bool) -> RunResult {
+    let mut f = Fmu::new(case.h_fixed, v3, elastic);
     let n = (T_END / h).round() as usize;
     let (vr_w, vr_tl) = (vr_of("omega1").unwrap(), vr_of("T_load").unwrap());
     let mut wall = Vec::with_capacity(n);
@@ -449,6 +470,18 @@ fn main() {
         Ok("both") => vec![false, true],
         _ => vec![false],
     };
+    // BENCH_CONTACT=elastic: the elastic tooth contact; both: rigid and elastic side by side.
+    let contacts: Vec<bool> = match std::env::var("BENCH_CONTACT").as_deref() {
+        Ok("elastic") => vec![true],
+        Ok("both") => vec![false, true],
+        _ => vec![false],
+    };
+    // The variants (FMI 3.0?, elastic?) whose runs alternate: one comparison at a time.
+    let variants: Vec<(bool, bool)> = if contacts.len() > 1 {
+        contacts.iter().map(|&e| (versions[0], e)).collect()
+    } else {
+        versions.iter().map(|&v3| (v3, contacts[0])).collect()
+    };
     println!(
         "closed-loop benchmark: default pair, rtol 1e-6, {T_END} s simulated per run, {repeats} repeats (medians; max also best of runs), {} online CPUs",
         std::thread::available_parallelism().map_or(0, |n| n.get())
@@ -514,29 +547,35 @@ fn main() {
             if !selected {
                 continue;
             }
-            let vs: Vec<bool> = versions
+            let vs: Vec<(bool, bool)> = variants
                 .iter()
                 .copied()
-                .filter(|&v3| !(v3 && case.drive == Drive::Omega1Der))
+                .filter(|&(v3, _)| !(v3 && case.drive == Drive::Omega1Der))
                 .collect();
             // The runs of the versions alternated, so that a change of the machine's load
             // hits both alike.
             let mut all: Vec<Vec<RunResult>> = vs.iter().map(|_| Vec::new()).collect();
             for _ in 0..repeats {
-                for (i, &v3) in vs.iter().enumerate() {
-                    all[i].push(run(case, h, per_call_cpu, v3));
+                for (i, &(v3, elastic)) in vs.iter().enumerate() {
+                    all[i].push(run(case, h, per_call_cpu, v3, elastic));
                 }
             }
             let mut cpus = Vec::new();
-            for (runs, &v3) in all.iter().zip(&vs) {
-                let label = if versions.len() > 1 {
+            for (runs, &(v3, elastic)) in all.iter().zip(&vs) {
+                let label = if contacts.len() > 1 || elastic {
+                    format!(
+                        "{} [{}]",
+                        case.name,
+                        if elastic { "elastic" } else { "rigid" }
+                    )
+                } else if versions.len() > 1 {
                     format!("{} [{}]", case.name, if v3 { "3.0" } else { "2.0" })
                 } else {
                     case.name.to_string()
                 };
                 let cpu = median(runs.iter().map(|r| r.cpu_per_10ms).collect());
                 cpus.push(cpu);
-                if case.name == "const" {
+                if case.name == "const" && !elastic {
                     cpu_const[usize::from(v3)] = cpu;
                 }
                 let mut q = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
@@ -645,8 +684,13 @@ fn main() {
                     .zip(&all[1])
                     .map(|(a, b)| format!("{:.3}", b.cpu_per_10ms / a.cpu_per_10ms))
                     .collect();
+                let what = if contacts.len() > 1 {
+                    "elastic / rigid"
+                } else {
+                    "FMI 3.0 / 2.0"
+                };
                 println!(
-                    "{:<22} FMI 3.0 / 2.0: ratio of the median CPU {:.3}; per alternated pair {}",
+                    "{:<22} {what}: ratio of the median CPU {:.3}; per alternated pair {}",
                     "",
                     c3 / c2,
                     per.join(", ")

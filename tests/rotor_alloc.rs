@@ -53,8 +53,8 @@ fn rhs_and_jacobian_do_not_allocate() {
     }
 }
 
-/// The same for the elastic contact (docs/model.md §3.5): f and the outputs allocate
-/// nothing, in contact and in free flight.
+/// The same for the elastic contact (docs/model.md §3.5): f, its chain-rule Jacobian and
+/// the outputs allocate nothing, in contact and in free flight.
 #[test]
 fn elastic_rhs_does_not_allocate() {
     for beta in [20f64.to_radians(), 0.0] {
@@ -84,6 +84,20 @@ fn elastic_rhs_does_not_allocate() {
             }
         });
         assert_eq!(n, 0, "elastic rhs allocated {n} times in 5000 calls");
+        let mut jac = SMatrix::<f64, NY, NY>::zeros();
+        let n = count(|| {
+            for i in 0..200 {
+                let mut y = y0;
+                y[idx::PHI1] = i as f64 * 1e-3;
+                y[idx::V] = 1e-3 * (i as f64).sin();
+                if i % 2 == 1 {
+                    y[idx::Q + 6] += 1e-4;
+                }
+                assert!(model.jacobian(0.0, &y, &mut jac));
+                std::hint::black_box(&jac);
+            }
+        });
+        assert_eq!(n, 0, "elastic jacobian allocated {n} times");
         let n = count(|| {
             std::hint::black_box(model.outputs(0.0, &y0));
         });

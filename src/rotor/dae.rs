@@ -11,6 +11,7 @@ use std::f64::consts::PI;
 
 mod coast;
 mod elastic;
+mod elastic_jacobian;
 mod friction;
 mod hidden;
 mod memo;
@@ -67,6 +68,9 @@ pub struct GearedRotor {
     /// The coast flanks of the elastic contact (`model.md` §3.6): the mirrored pair. None
     /// for rigid teeth and for the mirrored pair itself.
     coast: Option<coast::CoastFlank>,
+    /// No Jacobian for the stepper (it takes forward differences of f): the reference the
+    /// tests hold the elastic contact's chain-rule Jacobian against.
+    difference_jacobian: bool,
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -171,6 +175,7 @@ impl GearedRotor {
             scales: super::DEFAULT_PAIR_SCALES,
             elastic,
             coast,
+            difference_jacobian: false,
         })
     }
 
@@ -392,8 +397,10 @@ impl GearedRotor {
     /// Jacobian df/dy. The linear parts, the constraint row G(q) and its q-derivative and
     /// the lambda column are analytic; the derivatives of the friction resultants with
     /// respect to q, v, phi1 and omega1 are one-sided differences of the friction
-    /// evaluation alone (15 evaluations, cheaper than 22 full f). Returns false (caller
-    /// falls back to finite differences of f) when the state cannot be evaluated.
+    /// evaluation alone (15 evaluations, cheaper than 22 full f). In the elastic contact
+    /// the same at lambda := Fn(y) with the chain rule through Fn (`elastic_jacobian`).
+    /// Returns false (caller falls back to finite differences of f) when the state cannot
+    /// be evaluated.
     pub fn jacobian(
         &mut self,
         t: f64,
@@ -402,15 +409,36 @@ impl GearedRotor {
     ) -> bool {
         // In the stick mode the stick force (4.13) depends on every state component; the
         // stepper's forward differences of f are taken there (stick phases are short).
-        // The elastic contact (§3.5) takes them too (first version).
-        !self.stick && self.elastic.is_none() && self.eval_jacobian(t, y, jac).is_ok()
+        if self.stick || self.difference_jacobian {
+            return false;
+        }
+        match &self.elastic {
+            None => self.eval_jacobian(t, y, jac, &mut [0.0; NY]).is_ok(),
+            // The elastic contact (§3.5): the chain rule through Fn(y), for the drive flanks;
+            // while the coast flanks touch (§3.6) the stepper's differences of f.
+            Some(e) => {
+                !self.coast_touches(t, y) && self.eval_elastic_jacobian(e, t, y, jac).is_ok()
+            }
+        }
     }
 
+    /// Test switch: `true` makes [`GearedRotor::jacobian`] decline, so that the stepper
+    /// takes forward differences of f (the reference for the analytic Jacobian).
+    #[doc(hidden)]
+    pub fn set_difference_jacobian(&mut self, on: bool) {
+        self.difference_jacobian = on;
+    }
+
+    /// The rigid model's Jacobian at y's own lambda (for the elastic contact: at lambda :=
+    /// Fn(y), `elastic_jacobian`). `dl` receives the one-sided differences of the contact
+    /// length l (3.12) that the friction columns evaluate anyway (positions and phi1; 0
+    /// elsewhere).
     fn eval_jacobian(
         &self,
         t: f64,
         y: &SVector<f64, NY>,
         jac: &mut SMatrix<f64, NY, NY>,
+        dl: &mut [f64; NY],
     ) -> Result<(), ModelError> {
         let g = &self.geom;
         let (v, lam_i) = (idx::V, idx::LAMBDA);
@@ -545,6 +573,7 @@ impl GearedRotor {
             }
             jac[(idx::E_IN, j)] += -(frp.m1.z - fr.m1.z) / h * omega1;
             jac[(idx::E_LOSS, j)] += (frp.p_loss - fr.p_loss) / h;
+            dl[j] = (sp.contact.length - l) / h;
             yp[j] = yj;
         }
         Ok(())

@@ -302,6 +302,13 @@ impl Simulation {
         &self.problem.model
     }
 
+    /// Test switch: forward differences of f for every Jacobian
+    /// ([`GearedRotor::set_difference_jacobian`]).
+    #[doc(hidden)]
+    pub fn set_difference_jacobian(&mut self, on: bool) {
+        self.problem.model.set_difference_jacobian(on);
+    }
+
     /// RADAU5 counters since the start.
     pub fn stats(&self) -> &Statistics {
         self.solver.stats()

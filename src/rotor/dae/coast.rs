@@ -93,6 +93,15 @@ impl GearedRotor {
         -g.cos_beta_b * gc
     }
 
+    /// Whether the coast flanks overlap at y (`delta_c > 0`; false without coast flanks or
+    /// when the mesh cannot be evaluated).
+    pub(crate) fn coast_touches(&self, t: f64, y: &SVector<f64, NY>) -> bool {
+        self.coast.is_some()
+            && self
+                .mesh_for_f(t, y)
+                .is_ok_and(|m| self.coast_approach(&m, y[idx::Q + 6]) > 0.0)
+    }
+
     /// The coast contact's terms of f at y (zero while the coast flanks are apart).
     /// `m` is the drive side's mesh of y.
     ///
