@@ -4,8 +4,10 @@
 //! Without the rigid constraint the transmission-error coordinate xi and omega2 are free
 //! states: the mesh spring is a degree of freedom of its own (the mesh mode, natural
 //! frequency (3.19)). The periodic state is therefore the 14 components
-//! `z = (u1x u1y u1z u2x u2y u2z xi, their velocities with omega2)`, i.e. `y[Q..Q+7]` and
-//! `y[V..V+7]`. Left out, as in the rigid version: phi1 (the phase of the period), the drive
+//! `z = (u1x u1y u1z u2x u2y u2z xi, u1x' .. u2z', xi')`, i.e. `y[Q..Q+7]`, `y[V..V+6]` and
+//! the rate of the transmission error `xi' = r_b2 omega2 - r_b1 omega1` in place of omega2
+//! (the same at every drive speed for the same vibration, so that an orbit continues to a
+//! neighbouring speed; omega2 itself is the rigid rotation's plus that). Left out, as in the rigid version: phi1 (the phase of the period), the drive
 //! filter (at rest at the constant speed), the energy accumulators and the last slot of y,
 //! which holds the work stored in the mesh spring (a quadrature that grows by the work of
 //! the stiffness variation, not periodic).
@@ -21,7 +23,7 @@ use nalgebra::{Complex, SMatrix, SVector};
 use std::f64::consts::PI;
 
 /// Number of periodic state components in elastic mode: seven positions (the centres and
-/// xi) and seven velocities (the centres and omega2).
+/// xi) and seven velocities (the centres and xi').
 pub const NZE: usize = 14;
 
 /// Periodic state at the start of a mesh period in elastic mode.
@@ -30,7 +32,7 @@ pub type ElasticReduced = SVector<f64, NZE>;
 /// A 14 x 14 matrix (monodromy in elastic mode).
 pub type ElasticMatrix = SMatrix<f64, NZE, NZE>;
 
-/// Index of y for component `i` of the elastic periodic state.
+/// Index of y for component `i` of the elastic periodic state (omega2 for xi').
 fn y_index(i: usize) -> usize {
     if i < 7 {
         idx::Q + i
@@ -63,11 +65,11 @@ impl PeriodicSystem {
         self.require_elastic()?;
         let (ic, _) = self.model().static_equilibrium(0.0, 0.0)?;
         let y = self.model().consistent_state(0.0, &ic)?;
-        Ok(Self::reduce_elastic(&y))
+        Ok(self.reduce_elastic(&y))
     }
 
     /// The full state at t = 0, phi1 = 0 from the elastic periodic state: the centres, xi,
-    /// their velocities and omega2 as given, the drive filter at rest at omega1, the energy
+    /// their velocities and xi' as given (omega2 = (xi' + r_b1 omega1) / r_b2), the drive filter at rest at omega1, the energy
     /// accumulators zero and the last slot the spring energy `k delta^2 / 2` (as the
     /// elastic start of §3.5).
     ///
@@ -79,13 +81,16 @@ impl PeriodicSystem {
     }
 
     /// The elastic periodic state of a full state.
-    pub fn reduce_elastic(y: &SVector<f64, NY>) -> ElasticReduced {
-        ElasticReduced::from_fn(|i, _| y[y_index(i)])
+    pub fn reduce_elastic(&self, y: &SVector<f64, NY>) -> ElasticReduced {
+        let g = self.model().geometry();
+        let mut z = ElasticReduced::from_fn(|i, _| y[y_index(i)]);
+        z[13] = g.rb2 * y[idx::V + 6] - g.rb1 * y[idx::OMEGA1];
+        z
     }
 
     /// Scales of the elastic periodic state: the centres as [`PeriodicSystem::scales`], xi by
     /// the static mesh deflection `lambda_nom / (c_gamma b cos(beta_b))` (at least 1 nm), the
-    /// velocities by those times the mesh frequency, omega2 that divided by r_b2.
+    /// velocities by those times the mesh frequency.
     pub fn scales_elastic(&self) -> ElasticReduced {
         let s = self.scales();
         let model = self.model();
@@ -99,7 +104,7 @@ impl PeriodicSystem {
             z[7 + i] = s[6 + i];
         }
         z[6] = xi;
-        z[13] = xi * w / g.rb2;
+        z[13] = xi * w;
         z
     }
 
@@ -107,8 +112,11 @@ impl PeriodicSystem {
     pub fn fd_steps_elastic(&self, rel: f64, rtol: f64) -> ElasticReduced {
         let s = self.scales_elastic();
         let scale = self.model().scales();
+        let g = self.model().geometry();
         ElasticReduced::from_fn(|i, _| {
-            (rel * s[i]).max(super::FD_NOISE_FACTOR * scale[y_index(i)] * rtol)
+            // xi' = r_b2 omega2 - r_b1 omega1: omega2's error allowance times r_b2.
+            let unit = if i == 13 { g.rb2 } else { 1.0 };
+            (rel * s[i]).max(super::FD_NOISE_FACTOR * unit * scale[y_index(i)] * rtol)
         })
     }
 
@@ -126,7 +134,7 @@ impl PeriodicSystem {
     ) -> Result<(ElasticReduced, Statistics), PeriodicError> {
         let y0 = self.lift_elastic(z)?;
         let (y, stats) = self.integrate_state(y0, periods, rtol, samples)?;
-        Ok((Self::reduce_elastic(&y), stats))
+        Ok((self.reduce_elastic(&y), stats))
     }
 
     /// The linear map from a change of the positions (the first seven components) to the
@@ -169,7 +177,8 @@ pub fn lift_elastic_with(
     };
     let mut y = model.consistent_state(t, &ic)?;
     y[idx::Q + 6] = z[6];
-    y[idx::V + 6] = z[13];
+    let g = model.geometry();
+    y[idx::V + 6] = (z[13] + g.rb1 * y[idx::OMEGA1]) / g.rb2;
     y[idx::LAMBDA] = model
         .elastic_contact_at(t, &y)
         .map_or(0.0, |c| c.energy);
@@ -424,4 +433,169 @@ pub fn mesh_mode(
         });
     }
     Ok(best)
+}
+
+/// Settings of [`continuation`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContinuationOptions {
+    /// Shooting at each point; `transient_periods` are integrated at the new speed from the
+    /// neighbour's orbit before Newton (the slow sweep of an experiment: the state stays in
+    /// the basin of the attractor it was on).
+    pub shooting: ShootingOptions,
+    /// Where shooting fails or finds an unstable orbit (contact loss makes the period map
+    /// non-smooth; near a jump the orbit may be unstable or not of period one): mesh periods
+    /// integrated further from the end of the transient ...
+    pub fallback_periods: usize,
+    /// ... and then sampled (`shooting.samples` per period) for the force range.
+    pub sample_periods: usize,
+}
+
+impl Default for ContinuationOptions {
+    fn default() -> Self {
+        ContinuationOptions {
+            // Newton to 1e-6 of the scales (the force range to ~1e-6 of the static force;
+            // where the flanks separate, the step-size control crossing the kinks makes the
+            // period map rougher than 1e-8), 8 iterations at most.
+            shooting: ShootingOptions {
+                transient_periods: 60,
+                tol: 1e-6,
+                max_newton: 8,
+                ..default_options()
+            },
+            fallback_periods: 300,
+            sample_periods: 20,
+        }
+    }
+}
+
+/// One point of a [`continuation`] in the drive speed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContinuationPoint {
+    /// Drive speed, rad/s.
+    pub omega1: f64,
+    /// Whether shooting found a stable periodic orbit (else the force range is that of the
+    /// fallback simulation's last `sample_periods` periods).
+    pub periodic: bool,
+    /// Scaled shooting residual (NaN for the fallback).
+    pub residual: f64,
+    /// Largest Floquet multiplier modulus (NaN for the fallback).
+    pub floquet_max_abs: f64,
+    /// Largest and smallest normal force Fn over the sampled period(s), N.
+    pub fn_max: f64,
+    /// See `fn_max`.
+    pub fn_min: f64,
+    /// The static normal force of the load, `GearedRotor::nominal_lambda`, N.
+    pub fn_static: f64,
+    /// Share of the samples in free flight (Fn = 0): contact loss.
+    pub free_flight: f64,
+    /// Mesh periods integrated at this point (a failed Newton's not counted).
+    pub periods: usize,
+    /// The state at the start of a period the next point starts from.
+    pub z: ElasticReduced,
+    /// Why shooting was not used (empty when it was).
+    pub note: String,
+}
+
+impl ContinuationPoint {
+    /// The dynamic factor `max Fn / F_static`.
+    pub fn dynamic_factor(&self) -> f64 {
+        self.fn_max / self.fn_static
+    }
+}
+
+/// Sweeps the drive speed through `speeds` (rad/s, in the order given: ascending for a
+/// sweep up, descending for one down) at the load torque `t_load`, each point started from
+/// its neighbour's orbit (the first from the elastic start): the slow sweep of an experiment,
+/// which shows the jump of a softening resonance (contact loss near the mesh resonance) as
+/// a hysteresis between the two directions. `on_point` sees each point when it is done.
+///
+/// # Errors
+/// Rigid teeth, invalid parameters or speeds, solver failures of the fallback simulation.
+pub fn continuation(
+    params: crate::rotor::Params,
+    t_load: f64,
+    speeds: &[f64],
+    opts: &ContinuationOptions,
+    mut on_point: impl FnMut(&ContinuationPoint),
+) -> Result<Vec<ContinuationPoint>, PeriodicError> {
+    let mut out: Vec<ContinuationPoint> = Vec::with_capacity(speeds.len());
+    for &omega1 in speeds {
+        let mut sys = PeriodicSystem::new(params, omega1, t_load)?;
+        sys.require_elastic()?;
+        let start = match out.last() {
+            Some(p) => p.z,
+            None => sys.elastic_start()?,
+        };
+        let fn_static = sys.model().nominal_lambda(0.0);
+        let so = opts.shooting;
+        let free = |orbit: &[OrbitPoint]| {
+            orbit.iter().filter(|p| !(p.lambda > 0.0)).count() as f64 / orbit.len().max(1) as f64
+        };
+        let newton_periods = |iterations: usize| (iterations + 1) * (NZE + 1) + 1;
+        let point = match shoot_elastic(&mut sys, &start, &so) {
+            Ok(sh) if sh.floquet_max_abs() < 1.0 => {
+                let (hi, lo) = sh.fn_range();
+                ContinuationPoint {
+                    omega1,
+                    periodic: true,
+                    residual: sh.residual,
+                    floquet_max_abs: sh.floquet_max_abs(),
+                    fn_max: hi,
+                    fn_min: lo,
+                    fn_static,
+                    free_flight: free(&sh.orbit),
+                    periods: so.transient_periods + newton_periods(sh.iterations),
+                    z: sh.z,
+                    note: String::new(),
+                }
+            }
+            other => {
+                let note = match other {
+                    Ok(sh) => format!(
+                        "shooting found an unstable orbit (|mu| = {:.4})",
+                        sh.floquet_max_abs()
+                    ),
+                    // Invalid inputs are the caller's; anything else (no convergence, a
+                    // singular matrix, a Newton step into a state the solver or the mesh
+                    // cannot evaluate) is the non-smooth period map's, and the simulation
+                    // from the neighbour's orbit decides.
+                    Err(e @ (PeriodicError::Param(_) | PeriodicError::InvalidSpeed { .. })) => {
+                        return Err(e)
+                    }
+                    Err(e) => e.to_string(),
+                };
+                let n = opts.fallback_periods + so.transient_periods;
+                let (mut z, _) = sys.integrate_elastic(&start, n, so.rtol, None)?;
+                let mut samples = Vec::new();
+                let mut orbit = Vec::new();
+                for _ in 0..opts.sample_periods.max(1) {
+                    let (zn, _) =
+                        sys.integrate_elastic(&z, 1, so.rtol, Some((so.samples, &mut orbit)))?;
+                    samples.extend_from_slice(&orbit);
+                    z = zn;
+                }
+                let (hi, lo) = samples
+                    .iter()
+                    .fold((f64::NEG_INFINITY, f64::INFINITY), |(h, l), p| {
+                        (h.max(p.lambda), l.min(p.lambda))
+                    });
+                ContinuationPoint {
+                    omega1,
+                    periodic: false,
+                    residual: f64::NAN,
+                    floquet_max_abs: f64::NAN,
+                    fn_max: hi,
+                    fn_min: lo,
+                    fn_static,
+                    free_flight: free(&samples),
+                    periods: n + opts.sample_periods.max(1),
+                    z,
+                    note,
+                }
+            }
+        };
+        on_point(&point);
+        out.push(point);
+    }
+    Ok(out)
 }
