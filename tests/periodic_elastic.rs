@@ -8,6 +8,7 @@
 use geared_rotor::gear::GearData;
 use geared_rotor::periodic::elastic::{self, shoot_elastic, ElasticShootingResult};
 use geared_rotor::periodic::harmonic::{harmonic_balance, HarmonicOptions};
+use geared_rotor::periodic::modal::{modal_analysis, ModalOptions};
 use geared_rotor::periodic::shooting::{shoot, ShootingOptions};
 use geared_rotor::periodic::{max_rel_deviation, PeriodicSystem};
 use geared_rotor::rotor::{FrictionLaw, Outputs, Params, RotorData, ToothContact};
@@ -178,22 +179,24 @@ fn mesh_mode_multiplier_is_the_closed_form_one() {
     let omega1 = 0.7 * omega_m / f64::from(g.z1);
     // A light load (13 N normal force): the centres move 13 um on the soft bearings, which
     // widens the working centre distance and lowers the contact ratio and the mean mesh
-    // stiffness by 0.3 % (omega_m by 0.15 %); the bearings at 1e-3 of the mesh stiffness raise
-    // omega_m^2 by ~1e-4. Hence the bands below: frequency 0.3 %, decay per period 0.5 %.
+    // stiffness by 0.3 % (omega_m by 0.15 %, the decay rate d_l l / 2 m_eq by 0.3 %); the
+    // bearings at 1e-3 of the mesh stiffness raise omega_m^2 by ~1e-4. Hence the bands
+    // below: frequency 0.3 %, decay per period 0.5 %.
     let t_load = 0.5;
     let mut sys = PeriodicSystem::new(p, omega1, t_load).unwrap();
     let t = sys.period();
     let z0 = sys.elastic_start().unwrap();
     // The light load makes the scales small (xi: 37 nm, its rate 5e-4 m/s): omega2's absolute
-    // integration error (rtol |omega2|, omega2 = 336 rad/s) stalls Newton near 1e-6 of the
-    // scales even at rtol 1e-12; the orbit (here the static state, the stiffness being
-    // constant) is needed only to 1e-5 of them for the monodromy. Difference steps 1e-4 of
-    // the scales: well above that noise, well below the static mesh deflection (the force's
-    // kink at delta = 0).
+    // integration error (rtol |omega2|, omega2 = 336 rad/s) is ~1e-6 of them at rtol 1e-12;
+    // the orbit (here the static state, the stiffness being constant) is needed only to 1e-5
+    // of them for the monodromy. Period maps at rtol 1e-13 and difference steps 1e-3 of the
+    // scales: well above the integration noise (the mesh mode's |mu| moves by 2e-4 between
+    // steps 1e-3 and 1e-4 at rtol 1e-12 and 1e-13, by 1e-2 at rtol 1e-10), well below the
+    // static mesh deflection (the force's kink at delta = 0).
     let opts = ShootingOptions {
-        rtol: 1e-12,
+        rtol: 1e-13,
         tol: 1e-5,
-        fd_step: 1e-4,
+        fd_step: 1e-3,
         ..elastic::default_options()
     };
     let sh = shoot_elastic(&mut sys, &z0, &opts).unwrap();
@@ -271,6 +274,10 @@ fn rigid_only_parts_refuse_the_elastic_system_by_name() {
         msg.contains("tooth_contact") && msg.contains("periodic::elastic"),
         "{msg}"
     );
+    let e = modal_analysis(elastic(Params::default()), OMEGA1, 0.0, &ModalOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("tooth_contact = rigid") && e.contains("--damping"), "{e}");
     let mut rigid = PeriodicSystem::new(Params::default(), OMEGA1, 0.0).unwrap();
     let e = rigid.elastic_start().unwrap_err().to_string();
     assert!(e.contains("tooth_contact = elastic"), "{e}");

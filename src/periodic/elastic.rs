@@ -108,10 +108,11 @@ impl PeriodicSystem {
         z
     }
 
-    /// Forward-difference steps as [`PeriodicSystem::fd_steps`] for the elastic state.
+    /// Forward-difference steps as [`PeriodicSystem::fd_steps`] for the elastic state (the
+    /// noise floor from [`PeriodicSystem::integration_scales`]).
     pub fn fd_steps_elastic(&self, rel: f64, rtol: f64) -> ElasticReduced {
         let s = self.scales_elastic();
-        let scale = self.model().scales();
+        let scale = self.integration_scales();
         let g = self.model().geometry();
         ElasticReduced::from_fn(|i, _| {
             // xi' = r_b2 omega2 - r_b1 omega1: omega2's error allowance times r_b2.

@@ -267,13 +267,30 @@ impl PeriodicSystem {
     /// physical scales of the FMU (`GearedRotor::scales`), the DAE's structure
     /// (`rotor::dae_structure`, as the FMU's stepper) and the step budget.
     fn options(&self, rtol: f64, periods: usize) -> Options<NY> {
-        let scales = self.model().scales();
+        let scales = self.integration_scales();
         Options {
             rtol: Tolerance::Scalar(rtol),
             atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| rtol * scales[i])),
             max_steps: MAX_STEPS_PER_PERIOD * periods.max(1) as u64,
             ..dae_structure(self.model().params().tooth_contact)
         }
+    }
+
+    /// The physical scales of the period integrations' absolute tolerance: the FMU's
+    /// (`GearedRotor::scales`), except with the elastic contact xi and omega2, which take the
+    /// static mesh deflection and its rate ([`PeriodicSystem::scales_elastic`]) where those are
+    /// smaller: the FMU scales xi like the centre displacements, and with soft bearings the
+    /// mesh deflection is far smaller than those, so the period map's noise in xi (and the
+    /// difference monodromy's) would be set by the bearings, not by the mesh.
+    pub fn integration_scales(&self) -> [f64; NY] {
+        let mut scales = *self.model().scales();
+        if self.is_elastic() {
+            let s = self.scales_elastic();
+            let rb2 = self.model().geometry().rb2;
+            scales[idx::Q + 6] = scales[idx::Q + 6].min(s[6]);
+            scales[idx::V + 6] = scales[idx::V + 6].min(s[13] / rb2);
+        }
+        scales
     }
 
     /// Integrates from the consistent lift of `z` over `periods` mesh periods with RADAU5
