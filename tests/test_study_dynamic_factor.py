@@ -13,10 +13,9 @@ Checked against physics, not against the study's own numbers:
 - far from resonance, where both sweeps find a stable periodic orbit with the flanks in
   contact all the time, the model is linear time-periodic with every Floquet multiplier inside
   the unit circle, so its periodic orbit is unique: the two sweeps must give the same max Fn;
-- the resonance softens (free flight): the sweep down stays on the large orbit to a lower
-  speed than the sweep up reaches it, so the largest value of the sweep down lies at a lower
-  speed than the sweep up's, and the sweep up jumps (a step of more than the static force
-  between neighbouring speeds).
+- the resonance softens (free flight): the sweep down stays on the large orbit (flanks apart
+  for over 30 % of the period) to a lower speed than the one where the sweep up reaches it,
+  and the sweep up jumps (a step of more than the static force between neighbouring speeds).
 """
 
 from __future__ import annotations
@@ -104,14 +103,24 @@ def test_sweeps_coincide_where_the_flanks_stay_in_contact(result):
 def test_the_resonance_softens_with_a_jump_and_hysteresis(result):
     rows, _ = result
     up, down = _curves(rows)
+    _, n_res = closed_form_resonance_rpm()
     speeds = sorted(up)
-    n_up = max(speeds, key=lambda n: up[n]["dynamic_factor"])
-    n_down = max(speeds, key=lambda n: down[n]["dynamic_factor"])
+    near = [n for n in speeds if 0.7 * n_res <= n <= 1.3 * n_res]
+
+    def onset(curve):
+        """The lowest speed near resonance where the flanks separate for over 30 % of the
+        period (the large orbit)."""
+        return min((n for n in near if curve[n]["free_flight"] > 0.3), default=math.inf)
+
     jumps = [up[b]["dynamic_factor"] - up[a]["dynamic_factor"] for a, b in zip(speeds, speeds[1:])]
     gap = max(abs(up[n]["dynamic_factor"] - down[n]["dynamic_factor"]) for n in speeds)
-    print(f"largest up at {n_up} rpm, down at {n_down} rpm; largest step of the sweep up "
-          f"{max(jumps):.2f}; largest up/down difference {gap:.2f} (in units of F_static)")
-    assert n_down < n_up
+    for n in near:
+        print(f"{n} rpm: up {up[n]['dynamic_factor']:.3f} (free flight {up[n]['free_flight']:.2f}), "
+              f"down {down[n]['dynamic_factor']:.3f} ({down[n]['free_flight']:.2f})")
+    print(f"large orbit from {onset(up)} rpm up, {onset(down)} rpm down; largest step of the sweep "
+          f"up {max(jumps):.2f}; largest up/down difference {gap:.2f} (in units of F_static)")
+    # Softening: coming down, the sweep stays on the large orbit below the speed where the
+    # sweep up reaches it.
+    assert onset(down) < onset(up) < math.inf
     assert max(jumps) > 1.0
     assert gap > 1.0
-    assert any(r["free_flight"] > 0.1 for r in rows)

@@ -310,13 +310,14 @@ def plot(results, out_dir=None) -> list[Path]:
             ax.plot(x[~per], y[~per], "x", ms=6, color=c)
     n_res = meta.get("resonance_rpm", float("nan"))
     if math.isfinite(n_res):
-        ymax = ax.get_ylim()[1]
+        ymin, ymax = ax.get_ylim()
         xmax = max(r["rpm"] for r in rows) if rows else 0.0
         for k, lab in ((1.0, "f_z = f_m"), (0.5, "f_z = f_m / 2"), (2.0, "f_z = 2 f_m")):
             if k * n_res > 1.02 * xmax:
                 continue
             ax.axvline(k * n_res, color="k", lw=0.9, ls=":" if k != 1.0 else "-.")
-            ax.text(k * n_res, ymax, f" {lab}\n {k * n_res:.0f} rpm", va="top", ha="left", fontsize=8)
+            ax.text(k * n_res, ymin + 0.55 * (ymax - ymin), f" {lab}\n {k * n_res:.0f} rpm",
+                    va="center", ha="left", fontsize=8)
     ax.set_xlabel("drive speed n1 [rpm]")
     ax.set_ylabel("max Fn / F_static")
     f_m = meta.get("closed_form_hz", float("nan"))
@@ -324,7 +325,7 @@ def plot(results, out_dir=None) -> list[Path]:
                  f"f_m = {f_m:.0f} Hz (closed form (3.19))", fontsize=10)
     ax.grid(alpha=0.3)
     ax.plot([], [], "kx", label="no stable periodic orbit: max of a simulation")
-    ax.legend(fontsize=8, loc="upper right", bbox_to_anchor=(1.0, 0.9))
+    ax.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
     path = out_dir / "dynamic_factor.png"
     fig.savefig(path, dpi=110)
