@@ -108,7 +108,10 @@ fn elastic_orbit_is_periodic_and_is_where_a_long_run_settles() {
         println!("periodic start, after {} period(s): centres {:.2e}, TE {:.2e} of the orbit's peak to peak", k + 1, d.0, d.1);
         dev = (dev.0.max(d.0), dev.1.max(d.1));
     }
-    println!("periodic start at t = 0: centres {:.2e}, TE {:.2e}", d0.0, d0.1);
+    println!(
+        "periodic start at t = 0: centres {:.2e}, TE {:.2e}",
+        d0.0, d0.1
+    );
     assert!(dev.0 < 1e-5 && dev.1 < 1e-5, "{dev:?}");
 
     // 2. Independent: a long run from the elastic static start (no shooting) settles on the
@@ -134,7 +137,10 @@ fn elastic_orbit_is_periodic_and_is_where_a_long_run_settles() {
          centres {:.2e}, TE {:.2e} of the orbit's peak to peak",
         d_start.0, d_start.1, d.0, d.1
     );
-    assert!(d_start.0 > 0.1 || d_start.1 > 0.1, "the static start is not on the orbit");
+    assert!(
+        d_start.0 > 0.1 || d_start.1 > 0.1,
+        "the static start is not on the orbit"
+    );
     assert!(d.0 < 1e-5 && d.1 < 1e-5, "{d:?}");
 }
 
@@ -274,12 +280,19 @@ fn rigid_only_parts_refuse_the_elastic_system_by_name() {
         msg.contains("tooth_contact") && msg.contains("periodic::elastic"),
         "{msg}"
     );
-    let e = modal_analysis(elastic(Params::default()), OMEGA1, 0.0, &ModalOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("tooth_contact = rigid") && e.contains("--damping"), "{e}");
-    let mut rigid = PeriodicSystem::new(Params::default(), OMEGA1, 0.0).unwrap();
+    let e = modal_analysis(
+        elastic(Params::default()),
+        OMEGA1,
+        0.0,
+        &ModalOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("tooth_contact = rigid") && e.contains("--damping"),
+        "{e}"
+    );
+    let rigid = PeriodicSystem::new(Params::default(), OMEGA1, 0.0).unwrap();
     let e = rigid.elastic_start().unwrap_err().to_string();
     assert!(e.contains("tooth_contact = elastic"), "{e}");
 }
-

@@ -38,8 +38,8 @@
 //! "zeta": .., "dzeta": .., "freq0_hz": .., "zeta0": .., "multiplier_abs": .., "branch": ..},
 //! ..]}`.
 
-use geared_rotor::periodic::harmonic::{harmonic_balance, HarmonicOptions, HarmonicSolution};
 use geared_rotor::periodic::elastic::{self, ContinuationOptions};
+use geared_rotor::periodic::harmonic::{harmonic_balance, HarmonicOptions, HarmonicSolution};
 use geared_rotor::periodic::modal::{modal_analysis, ModalOptions};
 use geared_rotor::periodic::shooting::{shoot, ShootingOptions};
 use geared_rotor::periodic::{max_rel_deviation, OrbitPoint, PeriodicSystem};

@@ -15,6 +15,13 @@
 //! the position-level constraint g = 0 (the "non-holonomic" constraint of the paper is
 //! integrable, `model.md` §3.3), omega2 from the velocity-level constraint, lambda from the
 //! hidden constraint (§7); phi1 is the phase of the period and so not an unknown.
+//!
+//! With elastic teeth (`tooth_contact = elastic`, `model.md` §3.5) xi and omega2 are free:
+//! [`elastic`] works on 14 components (the centres, xi, their rates), shoots from the
+//! elastic start, names the mesh mode among the Floquet multipliers and continues orbits in
+//! the drive speed (docs/dynamic_factor.md). The 12-coordinate functions ([`PeriodicSystem::lift`],
+//! [`shooting::shoot`], [`modal`]) refuse an elastic system by name; [`harmonic`] takes
+//! either.
 
 pub mod elastic;
 pub mod harmonic;
@@ -328,7 +335,11 @@ impl PeriodicSystem {
         let options = self.options(rtol, periods);
         // The elastic normal force is a function of the state, evaluated on a copy of the
         // model (the solver holds the problem).
-        let fn_model = self.problem.model.is_elastic().then(|| self.problem.model.clone());
+        let fn_model = self
+            .problem
+            .model
+            .is_elastic()
+            .then(|| self.problem.model.clone());
         let mut solver = Radau5::new(&mut self.problem, options, 0.0, y0)?;
         let t_end = periods as f64 * self.period;
         let t_last = t_end - self.period;

@@ -7,7 +7,8 @@
 //!   with mu = 0 this is an equilibrium of the DAE and every output stays constant;
 //! - [`Initialization::Periodic`]: on the periodic orbit at the constant start inputs, entered
 //!   at the mesh phase of the start (phi1 = 0), found by shooting on the period map
-//!   (`periodic::PeriodicSystem`).
+//!   (`periodic::PeriodicSystem`); with elastic teeth on the 14-component orbit of
+//!   `periodic::elastic` ([`periodic_orbit_elastic`]).
 //!
 //! In all three the references of the transmission error and the gap (g0, phi1(0)) are those
 //! of the undeflected state, so TE and the centre positions of a `periodic` start are the
@@ -436,9 +437,9 @@ pub fn periodic_orbit_elastic(
     };
     let tol_m = MONODROMY_RTOL.max(rtol);
     let period = |sys: &mut PeriodicSystem,
-                      z: &ElasticReduced,
-                      tol: f64,
-                      report: &mut InitReport|
+                  z: &ElasticReduced,
+                  tol: f64,
+                  report: &mut InitReport|
      -> Result<ElasticReduced, PeriodicError> {
         let (p, stats) = sys.integrate_elastic(z, 1, tol, None)?;
         report.periods_integrated += 1;
