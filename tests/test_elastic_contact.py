@@ -1,7 +1,7 @@
 """The elastic drive-flank contact through the packaged .fmu (tooth_contact = elastic,
 docs/model.md §3.5): the new variables' declarations, their rigid values, an elastic run
 whose outputs obey (3.13)-(3.17) and the energy balance (3.21), a rattle run without
-Discard or warning (with on_lift_off = discard), and the refusal of the periodic start.
+Discard or warning (with on_lift_off = discard), and the start on the periodic orbit.
 The physics checks against independent computations are in tests/elastic_contact.rs."""
 
 from __future__ import annotations
@@ -78,14 +78,23 @@ def test_rattle_without_discard_or_warning(pkg):
         inst.terminate_and_free()
 
 
-def test_periodic_start_is_refused_in_elastic_mode(pkg):
-    inst = pkg.instance("periodic", logging_on=True)
-    try:
-        st = call_status(inst.initialize, {"tooth_contact": 2, "initialization": 3})
-        assert st != FMI2_OK
-        assert any("tooth_contact" in m for m in inst.messages()), inst.messages()
-    finally:
-        inst.terminate_and_free()
+def test_periodic_start_in_elastic_mode_is_on_the_orbit(pkg):
+    """initialization = periodic with elastic teeth (src/periodic/elastic.rs,
+    docs/dynamic_factor.md): the run starts on the periodic orbit, so every output repeats
+    after one mesh period T_m = 2 pi / (z1 omega1) (model.md (9.4)), from the first period on;
+    the orbit is a real vibration (Fn and TE vary over the period)."""
+    omega1, z1, n = 314.159, 27, 20
+    t_m = 2.0 * math.pi / (z1 * omega1)
+    tr = run(pkg, 2.0 * t_m, t_m / n, params={"tooth_contact": 2, "initialization": 3,
+                                              "T_load": 50.0, "omega1": omega1},
+             tolerance=1e-8, record=["Fn", "TE", "mesh_deflection"], name="periodic_elastic")
+    for name in ("Fn", "TE", "mesh_deflection"):
+        x = tr[name]
+        pp = np.ptp(x[: n + 1])
+        assert pp > 1e-6 * np.max(np.abs(x)), name
+        dev = np.max(np.abs(x[n:] - x[: n + 1]))
+        print(f"{name}: peak to peak {pp:.4g}, repeats after T_m to {dev / pp:.2e} of it")
+        assert dev <= 1e-4 * pp, name
 
 
 def test_serialized_elastic_state_continues_identically(pkg):

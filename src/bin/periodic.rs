@@ -2,7 +2,7 @@
 //! by the n-th order harmonic approach, n = 1..12; reproduces the paper's Fig. 3.
 //!
 //! Usage: `cargo run --release --bin periodic -- [--params FILE] [--omega1 W] [--t-load T]
-//! [--out DIR] [--n-max N] [--json] [--damping] [--ignore-unknown]`
+//! [--out DIR] [--n-max N] [--json] [--damping] [--sweep W1,W2,..] [--ignore-unknown]`
 //!
 //! FILE holds `name = value` lines with the FMU's parameter names in SI units (rad for
 //! angles), e.g. `mu = 0.1` or `k1.x = 1e9`, and may set the constant inputs `omega1`
@@ -10,6 +10,22 @@
 //! `out/periodic`): `shooting_orbit.csv`, `harmonic_orbit_n4.csv`, `convergence.csv`,
 //! `floquet.csv`, `fig3.svg`. With `--json` the last line printed is one JSON object
 //! `{"shooting_residual": .., "floquet_max_abs": .., "hb": [{"n": 1, "max_rel_dev": ..}, ..]}`.
+//!
+//! With `tooth_contact = 2` (elastic, `model.md` §3.5) in FILE the orbit is found on the
+//! 14-component elastic state (`periodic::elastic`); it also prints the mesh mode (the
+//! Floquet multiplier whose mode shape loads the mesh spring most: frequency, damping ratio)
+//! against the closed form (3.19), and the JSON object adds `"mesh_mode": {"freq_hz": ..,
+//! "zeta": .., "multiplier_abs": .., "closed_form_hz": ..}` and `"fn_max"`, `"fn_min"`,
+//! `"fn_static"` (N).
+//!
+//! With `--sweep W1,W2,..` (elastic teeth only) it sweeps the drive speed through the listed
+//! values in rad/s, in the order given, each point started from its neighbour's orbit
+//! (`periodic::elastic::continuation`), and prints one JSON object per point: `{"omega1": ..,
+//! "periodic": true|false, "residual": .., "floquet_max_abs": .., "fn_max": .., "fn_min": ..,
+//! "fn_static": .., "dynamic_factor": .., "free_flight": .., "periods": .., "cpu_s": ..,
+//! "note": ..}`, then one line `{"closed_form_hz": .., "k_mean": .., "m_eq": .., "z1": ..}`
+//! (the mesh natural frequency (3.19) and its parts); `sweep.csv` in DIR. gearstudy's
+//! `[continuation]` studies call it so (docs/dynamic_factor.md).
 //!
 //! With `--ignore-unknown`, names in FILE that are no model parameter (FMU settings such as
 //! `initialization`) are skipped instead of refused (gearstudy passes a point's values so).
@@ -22,11 +38,12 @@
 //! "zeta": .., "dzeta": .., "freq0_hz": .., "zeta0": .., "multiplier_abs": .., "branch": ..},
 //! ..]}`.
 
+use geared_rotor::periodic::elastic::{self, ContinuationOptions};
 use geared_rotor::periodic::harmonic::{harmonic_balance, HarmonicOptions, HarmonicSolution};
 use geared_rotor::periodic::modal::{modal_analysis, ModalOptions};
 use geared_rotor::periodic::shooting::{shoot, ShootingOptions};
 use geared_rotor::periodic::{max_rel_deviation, OrbitPoint, PeriodicSystem};
-use geared_rotor::rotor::{param_table, Params};
+use geared_rotor::rotor::{param_table, Params, ToothContact};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -39,6 +56,7 @@ struct Args {
     n_max: usize,
     json: bool,
     damping: bool,
+    sweep: Option<Vec<f64>>,
 }
 
 /// Sets the parameter `name` (any of the FMU's model parameters, `rotor::param_table`).
@@ -59,6 +77,7 @@ fn parse_args() -> Result<Args, String> {
         n_max: 12,
         json: false,
         damping: false,
+        sweep: None,
     };
     let ignore_unknown = std::env::args().any(|a| a == "--ignore-unknown");
     let mut it = std::env::args().skip(1);
@@ -78,6 +97,20 @@ fn parse_args() -> Result<Args, String> {
                 a.t_load = value("a load torque in N m")?
                     .parse()
                     .map_err(|e| format!("--t-load: {e}"))?
+            }
+            "--sweep" => {
+                let list = value("drive speeds in rad/s, e.g. 100,200,300")?;
+                let speeds = list
+                    .split(',')
+                    .map(|w| w.trim().parse::<f64>())
+                    .collect::<Result<Vec<f64>, _>>()
+                    .map_err(|e| format!("--sweep {list}: {e}; give speeds in rad/s separated by commas"))?;
+                if speeds.is_empty() || !speeds.iter().all(|w| *w > 0.0 && w.is_finite()) {
+                    return Err(format!(
+                        "--sweep {list}: every speed must be positive and finite (rad/s)"
+                    ));
+                }
+                a.sweep = Some(speeds);
             }
             "--n-max" => {
                 a.n_max = value("an order")?
@@ -102,6 +135,17 @@ fn parse_args() -> Result<Args, String> {
                     match k.trim() {
                         "omega1" => a.omega1 = v,
                         "T_load" => a.t_load = v,
+                        // The FMU's Enumeration (fixed), not a Real of the parameter table.
+                        "tooth_contact" => {
+                            a.params.tooth_contact = ToothContact::from_code(v as i32)
+                                .filter(|_| v.fract() == 0.0)
+                                .ok_or_else(|| {
+                                    format!(
+                                        "{path}:{}: tooth_contact = {v}: give 1 (rigid) or 2 (elastic)",
+                                        no + 1
+                                    )
+                                })?
+                        }
                         name if ignore_unknown && param_table::by_name(name).is_none() => {}
                         name => set_param(&mut a.params, name, v)
                             .map_err(|e| format!("{path}:{}: {e}", no + 1))?,
@@ -110,7 +154,7 @@ fn parse_args() -> Result<Args, String> {
             }
             "-h" | "--help" => {
                 return Err(
-                    "usage: periodic [--params FILE] [--omega1 W] [--t-load T] [--out DIR] [--n-max N] [--json] [--damping] [--ignore-unknown]"
+                    "usage: periodic [--params FILE] [--omega1 W] [--t-load T] [--out DIR] [--n-max N] [--json] [--damping] [--sweep W1,W2,..] [--ignore-unknown]"
                         .into(),
                 )
             }
@@ -306,9 +350,146 @@ fn run_damping(a: &Args) -> Result<(), String> {
     Ok(())
 }
 
+/// The shooting result of either contact model, as the report uses it.
+struct Shot {
+    residual: f64,
+    iterations: usize,
+    history: Vec<f64>,
+    steps_per_period: u64,
+    floquet: Vec<nalgebra::Complex<f64>>,
+    orbit: Vec<OrbitPoint>,
+    /// Elastic teeth: the mesh mode, the closed-form omega_m (3.19) and the static force.
+    elastic: Option<(Option<elastic::MeshMode>, f64, f64)>,
+}
+
+fn shoot_any(sys: &mut PeriodicSystem) -> Result<Shot, String> {
+    if sys.is_elastic() {
+        let z0 = sys.elastic_start().map_err(|e| e.to_string())?;
+        let sh = elastic::shoot_elastic(sys, &z0, &elastic::default_options())
+            .map_err(|e| e.to_string())?;
+        let mm = elastic::mesh_mode(sys, &sh.z, &sh.monodromy).map_err(|e| e.to_string())?;
+        let wm = elastic::closed_form_mesh_mode(sys).map_or(f64::NAN, |(w, _)| w);
+        return Ok(Shot {
+            residual: sh.residual,
+            iterations: sh.iterations,
+            history: sh.residual_history,
+            steps_per_period: sh.steps_per_period,
+            floquet: sh.floquet,
+            orbit: sh.orbit,
+            elastic: Some((mm, wm, sys.model().nominal_lambda(0.0))),
+        });
+    }
+    let (z0, _) = sys.static_equilibrium().map_err(|e| e.to_string())?;
+    let sh = shoot(sys, &z0, &ShootingOptions::default()).map_err(|e| e.to_string())?;
+    Ok(Shot {
+        residual: sh.residual,
+        iterations: sh.iterations,
+        history: sh.residual_history,
+        steps_per_period: sh.steps_per_period,
+        floquet: sh.floquet,
+        orbit: sh.orbit,
+        elastic: None,
+    })
+}
+
+fn run_sweep(a: &Args, speeds: &[f64]) -> Result<(), String> {
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let sys = PeriodicSystem::new(a.params, speeds[0], a.t_load).map_err(|e| e.to_string())?;
+    let Some((wm, _)) = elastic::closed_form_mesh_mode(&sys) else {
+        return Err(
+            "--sweep: tooth_contact = 2 (elastic) is required (the dynamic factor needs the \
+             elastic contact; with rigid teeth the normal force has no mesh resonance); set \
+             tooth_contact = 2 in the --params file"
+                .into(),
+        );
+    };
+    let mesh = sys.model().elastic_mesh().copied();
+    let mut csv = String::from(
+        "omega1,periodic,residual,floquet_max_abs,fn_max,fn_min,fn_static,dynamic_factor,free_flight,periods,cpu_s,note\n",
+    );
+    let mut t0 = std::time::Instant::now();
+    let mut lines = Vec::new();
+    elastic::continuation(
+        a.params,
+        a.t_load,
+        speeds,
+        &ContinuationOptions::default(),
+        |p| {
+            let cpu = t0.elapsed().as_secs_f64();
+            t0 = std::time::Instant::now();
+            let _ = writeln!(
+                csv,
+                "{:.12e},{},{:.3e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{},{:.4},{}",
+                p.omega1,
+                p.periodic,
+                p.residual,
+                p.floquet_max_abs,
+                p.fn_max,
+                p.fn_min,
+                p.fn_static,
+                p.dynamic_factor(),
+                p.free_flight,
+                p.periods,
+                cpu,
+                json_str(&p.note)
+            );
+            let num = |x: f64| {
+                if x.is_finite() {
+                    format!("{x:.12e}")
+                } else {
+                    "null".into()
+                }
+            };
+            let line = format!(
+                "{{\"omega1\": {}, \"periodic\": {}, \"residual\": {}, \"floquet_max_abs\": {}, \"fn_max\": {}, \"fn_min\": {}, \"fn_static\": {}, \"dynamic_factor\": {}, \"free_flight\": {}, \"periods\": {}, \"cpu_s\": {:.4}, \"note\": {}}}",
+                num(p.omega1),
+                p.periodic,
+                num(p.residual),
+                num(p.floquet_max_abs),
+                num(p.fn_max),
+                num(p.fn_min),
+                num(p.fn_static),
+                num(p.dynamic_factor()),
+                num(p.free_flight),
+                p.periods,
+                cpu,
+                json_str(&p.note)
+            );
+            if a.json {
+                println!("{line}");
+            } else {
+                println!(
+                    "omega1 = {:10.3} rad/s ({:8.1} rpm): max Fn / F_static = {:.4}, free flight {:5.1} % of the period, {}",
+                    p.omega1,
+                    p.omega1 * 30.0 / std::f64::consts::PI,
+                    p.dynamic_factor(),
+                    100.0 * p.free_flight,
+                    if p.periodic { "periodic orbit".to_string() } else { format!("simulated ({})", p.note) }
+                );
+            }
+            lines.push(line);
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let p = a.out.join("sweep.csv");
+    std::fs::write(&p, &csv).map_err(|e| format!("{}: {e}", p.display()))?;
+    let summary = format!(
+        "{{\"closed_form_hz\": {:.12e}, \"k_mean\": {:.12e}, \"m_eq\": {:.12e}, \"z1\": {}}}",
+        wm / (2.0 * std::f64::consts::PI),
+        mesh.map_or(f64::NAN, |m| m.k_mean),
+        mesh.map_or(f64::NAN, |m| m.m_eq),
+        a.params.gear.z1
+    );
+    println!("{summary}");
+    Ok(())
+}
+
 fn run(a: &Args) -> Result<(), String> {
     if a.damping {
         return run_damping(a);
+    }
+    if let Some(speeds) = &a.sweep {
+        return run_sweep(a, speeds);
     }
     let mut sys = PeriodicSystem::new(a.params, a.omega1, a.t_load).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
@@ -316,16 +497,14 @@ fn run(a: &Args) -> Result<(), String> {
         let p = a.out.join(name);
         std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))
     };
-    let (z0, _) = sys.static_equilibrium().map_err(|e| e.to_string())?;
-    let sopts = ShootingOptions::default();
     let t0 = std::time::Instant::now();
-    let sh = shoot(&mut sys, &z0, &sopts).map_err(|e| e.to_string())?;
+    let sh = shoot_any(&mut sys)?;
     println!(
         "shooting: T_m = {:.6e} s, residual {:.3e} after {} Newton iterations (history {:?}), {} RADAU5 steps per period, {:.2} s",
         sys.period(),
         sh.residual,
         sh.iterations,
-        sh.residual_history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>(),
+        sh.history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>(),
         sh.steps_per_period,
         t0.elapsed().as_secs_f64()
     );
@@ -337,6 +516,40 @@ fn run(a: &Args) -> Result<(), String> {
             .collect::<Vec<_>>()
             .join(" ")
     );
+    let mut json_elastic = String::new();
+    if let Some((mm, wm, fn_static)) = sh.elastic {
+        let (hi, lo) = sh
+            .orbit
+            .iter()
+            .fold((f64::NEG_INFINITY, f64::INFINITY), |(h, l), p| {
+                (h.max(p.lambda), l.min(p.lambda))
+            });
+        let f_cf = wm / (2.0 * std::f64::consts::PI);
+        println!(
+            "elastic contact: Fn {lo:.3} .. {hi:.3} N (static {fn_static:.3} N, max / static {:.5}); closed-form mesh natural frequency (3.19) {f_cf:.3} Hz",
+            hi / fn_static
+        );
+        if let Some(m) = mm {
+            println!(
+                "mesh mode (largest mesh-spring share {:.3}): multiplier {:.6} (|.| {:.6}), f = {:.3} Hz, zeta = {:.5}",
+                m.mesh_share,
+                m.multiplier,
+                m.multiplier.norm(),
+                m.freq_hz,
+                m.zeta
+            );
+            json_elastic = format!(
+                ", \"mesh_mode\": {{\"freq_hz\": {:.9e}, \"zeta\": {:.9e}, \"multiplier_abs\": {:.9e}, \"closed_form_hz\": {:.9e}}}",
+                m.freq_hz,
+                m.zeta,
+                m.multiplier.norm(),
+                f_cf
+            );
+        }
+        json_elastic.push_str(&format!(
+            ", \"fn_max\": {hi:.9e}, \"fn_min\": {lo:.9e}, \"fn_static\": {fn_static:.9e}"
+        ));
+    }
     write("shooting_orbit.csv", &orbit_csv(&sh.orbit))?;
     let mut fl = String::from("re,im,abs\n");
     for c in &sh.floquet {
@@ -375,9 +588,9 @@ fn run(a: &Args) -> Result<(), String> {
     }
     if a.json {
         println!(
-            "{{\"shooting_residual\": {:.6e}, \"floquet_max_abs\": {:.6e}, \"hb\": [{}]}}",
+            "{{\"shooting_residual\": {:.6e}, \"floquet_max_abs\": {:.6e}, \"hb\": [{}]{json_elastic}}}",
             sh.residual,
-            sh.floquet_max_abs(),
+            sh.floquet.first().map_or(0.0, |c| c.norm()),
             json_hb.join(", ")
         );
     }

@@ -12,6 +12,13 @@
 //! collocation). Newton on the 8 (2n+1) coefficients with a forward-difference Jacobian
 //! and step halving. The position-level constraint (rather than its time derivative) fixes
 //! the mean of xi, which the velocity-level constraint would leave free.
+//!
+//! With the elastic contact (`tooth_contact = elastic`, `model.md` §3.5) there is no
+//! constraint: the eighth signal is the normal force Fn and its residual `Fn(q, q', phi1) -
+//! Fn`, Fn of (3.16) being a function of the state (gear 2's equation of motion then fixes
+//! the mean of xi through the mesh spring). The `max(0, ..)` of (3.15) is a kink and contact
+//! loss makes the orbit non-smooth: the series converge slowly there, and shooting
+//! (`periodic::elastic`) is the method of record.
 
 use super::{OrbitPoint, PeriodicError, PeriodicSystem};
 use crate::rotor::{idx, NY};
@@ -150,6 +157,7 @@ impl Balance<'_> {
         let mut y = SVector::<f64, NY>::zeros();
         let mut f = SVector::<f64, NY>::zeros();
         let mut model = model.clone();
+        let elastic = model.is_elastic();
         for j in 0..self.nodes {
             let t = self.sys.period() * j as f64 / self.nodes as f64;
             let (v, dv, ddv) = eval_series(&c, self.n, w, t);
@@ -175,7 +183,19 @@ impl Balance<'_> {
                 time[(j, i)] = (self.mass[i] * acc - f[idx::V + i]) / scale;
             }
             let mesh = model.mesh(t, &y)?;
-            time[(j, 7)] = (g.gap_raw(&mesh, v[6]) + model.gap_offset()) / self.signal_scale[6];
+            time[(j, 7)] = if elastic {
+                // Elastic contact (§3.5): the eighth signal is the normal force Fn (3.16),
+                // a function of the state; its residual is Fn(state) - signal.
+                let fn_ = model
+                    .elastic_contact_at(t, &y)
+                    .ok_or(PeriodicError::Singular {
+                        method: "harmonic balance",
+                    })?
+                    .fn_;
+                (fn_ - v[7]) / self.signal_scale[7]
+            } else {
+                (g.gap_raw(&mesh, v[6]) + model.gap_offset()) / self.signal_scale[6]
+            };
         }
         // Projection onto 1, 2 cos, 2 sin (the DFT; exact collocation for N = 2n + 1).
         let proj = self.basis.transpose() * time / self.nodes as f64;
@@ -253,7 +273,11 @@ pub fn harmonic_balance(
             }
         }
         None => {
-            let y = sys.lift(&z_static)?;
+            let y = if sys.is_elastic() {
+                sys.lift_elastic(&sys.elastic_start()?)?
+            } else {
+                sys.lift(&z_static)?
+            };
             for s in 0..6 {
                 x[s * m] = z_static[s] / signal_scale[s];
             }

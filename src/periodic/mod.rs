@@ -15,7 +15,15 @@
 //! the position-level constraint g = 0 (the "non-holonomic" constraint of the paper is
 //! integrable, `model.md` §3.3), omega2 from the velocity-level constraint, lambda from the
 //! hidden constraint (§7); phi1 is the phase of the period and so not an unknown.
+//!
+//! With elastic teeth (`tooth_contact = elastic`, `model.md` §3.5) xi and omega2 are free:
+//! [`elastic`] works on 14 components (the centres, xi, their rates), shoots from the
+//! elastic start, names the mesh mode among the Floquet multipliers and continues orbits in
+//! the drive speed (docs/dynamic_factor.md). The 12-coordinate functions ([`PeriodicSystem::lift`],
+//! [`shooting::shoot`], [`modal`]) refuse an elastic system by name; [`harmonic`] takes
+//! either.
 
+pub mod elastic;
 pub mod harmonic;
 pub mod modal;
 pub mod shooting;
@@ -152,16 +160,6 @@ impl PeriodicSystem {
         if !(omega1 > 0.0 && omega1.is_finite()) {
             return Err(PeriodicError::InvalidSpeed { omega1 });
         }
-        if params.tooth_contact != crate::rotor::ToothContact::Rigid {
-            return Err(PeriodicError::Param(ParamError {
-                name: "tooth_contact",
-                value: f64::from(params.tooth_contact.code()),
-                requirement: "tooth_contact = rigid: the periodic solutions (initialization = \
-                              periodic, the periodic binary, gearstudy) do not handle the \
-                              elastic contact yet (issue 27)"
-                    .into(),
-            }));
-        }
         let mut model = GearedRotor::new(params)?;
         model.set_inputs(Inputs {
             omega1,
@@ -253,6 +251,7 @@ impl PeriodicSystem {
     /// # Errors
     /// Mesh, contact or lambda errors.
     pub fn lift(&self, z: &Reduced) -> Result<SVector<f64, NY>, PeriodicError> {
+        self.require_rigid("the 12 reduced coordinates (shooting::shoot, modal)")?;
         let ic = InitialConditions {
             u: std::array::from_fn(|i| z[i]),
             u_dot: std::array::from_fn(|i| z[6 + i]),
@@ -275,13 +274,30 @@ impl PeriodicSystem {
     /// physical scales of the FMU (`GearedRotor::scales`), the DAE's structure
     /// (`rotor::dae_structure`, as the FMU's stepper) and the step budget.
     fn options(&self, rtol: f64, periods: usize) -> Options<NY> {
-        let scales = self.model().scales();
+        let scales = self.integration_scales();
         Options {
             rtol: Tolerance::Scalar(rtol),
             atol: Tolerance::PerComponent(SVector::<f64, NY>::from_fn(|i, _| rtol * scales[i])),
             max_steps: MAX_STEPS_PER_PERIOD * periods.max(1) as u64,
-            ..dae_structure(crate::rotor::ToothContact::Rigid)
+            ..dae_structure(self.model().params().tooth_contact)
         }
+    }
+
+    /// The physical scales of the period integrations' absolute tolerance: the FMU's
+    /// (`GearedRotor::scales`), except with the elastic contact xi and omega2, which take the
+    /// static mesh deflection and its rate ([`PeriodicSystem::scales_elastic`]) where those are
+    /// smaller: the FMU scales xi like the centre displacements, and with soft bearings the
+    /// mesh deflection is far smaller than those, so the period map's noise in xi (and the
+    /// difference monodromy's) would be set by the bearings, not by the mesh.
+    pub fn integration_scales(&self) -> [f64; NY] {
+        let mut scales = *self.model().scales();
+        if self.is_elastic() {
+            let s = self.scales_elastic();
+            let rb2 = self.model().geometry().rb2;
+            scales[idx::Q + 6] = scales[idx::Q + 6].min(s[6]);
+            scales[idx::V + 6] = scales[idx::V + 6].min(s[13] / rb2);
+        }
+        scales
     }
 
     /// Integrates from the consistent lift of `z` over `periods` mesh periods with RADAU5
@@ -299,7 +315,31 @@ impl PeriodicSystem {
         samples: Option<(usize, &mut Vec<OrbitPoint>)>,
     ) -> Result<(Reduced, Statistics), PeriodicError> {
         let y0 = self.lift(z)?;
+        let (y, stats) = self.integrate_state(y0, periods, rtol, samples)?;
+        Ok((Self::reduce(&y), stats))
+    }
+
+    /// [`PeriodicSystem::integrate`] from a full state `y0` at t = 0 (phi1 = 0): the full
+    /// end state. The sampled `lambda` is the multiplier (rigid) or the elastic contact's
+    /// normal force Fn (`model.md` (3.16); the last slot of y holds the spring's work there).
+    ///
+    /// # Errors
+    /// Solver errors.
+    pub fn integrate_state(
+        &mut self,
+        y0: SVector<f64, NY>,
+        periods: usize,
+        rtol: f64,
+        samples: Option<(usize, &mut Vec<OrbitPoint>)>,
+    ) -> Result<(SVector<f64, NY>, Statistics), PeriodicError> {
         let options = self.options(rtol, periods);
+        // The elastic normal force is a function of the state, evaluated on a copy of the
+        // model (the solver holds the problem).
+        let fn_model = self
+            .problem
+            .model
+            .is_elastic()
+            .then(|| self.problem.model.clone());
         let mut solver = Radau5::new(&mut self.problem, options, 0.0, y0)?;
         let t_end = periods as f64 * self.period;
         let t_last = t_end - self.period;
@@ -325,11 +365,15 @@ impl PeriodicSystem {
                         for (i, ui) in u.iter_mut().enumerate() {
                             *ui = y[idx::Q + i];
                         }
+                        let lambda = match &fn_model {
+                            Some(m) => m.elastic_contact_at(ts, &y).map_or(f64::NAN, |c| c.fn_),
+                            None => y[idx::LAMBDA],
+                        };
                         out.push(OrbitPoint {
                             t: ts - t_last,
                             u,
                             xi: y[idx::Q + 6],
-                            lambda: y[idx::LAMBDA],
+                            lambda,
                         });
                         *next += 1;
                     }
@@ -341,7 +385,29 @@ impl PeriodicSystem {
                 }
             }
         }
-        Ok((Self::reduce(solver.y()), *solver.stats()))
+        Ok((*solver.y(), *solver.stats()))
+    }
+
+    /// Whether the tooth contact is elastic (`model.md` §3.5): the periodic state then has
+    /// 14 components ([`elastic`]).
+    pub fn is_elastic(&self) -> bool {
+        self.model().is_elastic()
+    }
+
+    /// A typed refusal of the rigid-only parts (`what`) in elastic mode.
+    pub(crate) fn require_rigid(&self, what: &str) -> Result<(), PeriodicError> {
+        if self.is_elastic() {
+            return Err(PeriodicError::Param(ParamError {
+                name: "tooth_contact",
+                value: f64::from(self.model().params().tooth_contact.code()),
+                requirement: format!(
+                    "tooth_contact = rigid for {what}; with tooth_contact = elastic the \
+                     periodic state has 14 components (transmission error and omega2 are \
+                     free): use periodic::elastic (shoot_elastic, lift_elastic)"
+                ),
+            }));
+        }
+        Ok(())
     }
 }
 

@@ -342,6 +342,17 @@ pub fn modal_analysis(
     t_load: f64,
     opts: &ModalOptions,
 ) -> Result<ModalResult, PeriodicError> {
+    if params.tooth_contact != crate::rotor::ToothContact::Rigid {
+        return Err(PeriodicError::Param(crate::parameter::ParamError {
+            name: "tooth_contact",
+            value: f64::from(params.tooth_contact.code()),
+            requirement: "tooth_contact = rigid for the modal damping (periodic --damping): its \
+                          friction-free reference is the rigid linearisation; with elastic teeth \
+                          the periodic program without --damping gives the Floquet multipliers \
+                          and the mesh mode's frequency and damping ratio (periodic::elastic)"
+                .into(),
+        }));
+    }
     let refs = reference(params, omega1, t_load)?;
     let mut sys = PeriodicSystem::new(params, omega1, t_load)?;
     let (z0, _) = sys.static_equilibrium()?;

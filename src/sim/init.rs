@@ -7,7 +7,8 @@
 //!   with mu = 0 this is an equilibrium of the DAE and every output stays constant;
 //! - [`Initialization::Periodic`]: on the periodic orbit at the constant start inputs, entered
 //!   at the mesh phase of the start (phi1 = 0), found by shooting on the period map
-//!   (`periodic::PeriodicSystem`).
+//!   (`periodic::PeriodicSystem`); with elastic teeth on the 14-component orbit of
+//!   `periodic::elastic` ([`periodic_orbit_elastic`]).
 //!
 //! In all three the references of the transmission error and the gap (g0, phi1(0)) are those
 //! of the undeflected state, so TE and the centre positions of a `periodic` start are the
@@ -22,6 +23,7 @@
 // `!(a > b)` on purpose: it also counts NaN as outside, which `a <= b` would let pass.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use crate::periodic::elastic::{self, ElasticMatrix, ElasticReduced, NZE};
 use crate::periodic::{PeriodicError, PeriodicSystem, Reduced, NZ};
 use crate::rotor::{idx, GearedRotor, InitialConditions, ModelError, NY};
 use nalgebra::{Complex, SMatrix, SVector};
@@ -239,6 +241,11 @@ pub fn initial_state(
                 PeriodicSystem::new(*model.params(), inputs.omega1_at(t), inputs.t_load_at(t))?;
             let rtol =
                 (rtol * SHOOTING_RTOL_FACTOR).clamp(SHOOTING_RTOL_RANGE.0, SHOOTING_RTOL_RANGE.1);
+            if sys.is_elastic() {
+                let (z, report) = periodic_orbit_elastic(&mut sys, rtol)?;
+                let y = elastic::lift_elastic_with(model, t, &z)?;
+                return Ok((y, report));
+            }
             let (z, report) = periodic_orbit(&mut sys, rtol).map_err(|e| match e {
                 InitError::Periodic(p) if model.stick_possible() => InitError::PeriodicStick(p),
                 e => e,
@@ -407,6 +414,94 @@ fn chord_matrix(
         integrate(sys, z, rtol, report)?
     };
     Ok(((m - SMatrix::<f64, NZ, NZ>::identity()).lu(), p))
+}
+
+/// [`periodic_orbit`] with the elastic contact (`model.md` §3.5): the 14-component periodic
+/// state of `periodic::elastic`, chord shooting from the elastic start (static equilibrium,
+/// flanks at the static approach) with one forward-difference monodromy at
+/// `MONODROMY_RTOL` (its eigenvalues checked for stability), the period maps at `rtol`.
+/// Stops at [`RESIDUAL_TOL`], or when the iteration stalls with the best residual at most
+/// [`RESIDUAL_ACCEPT`].
+///
+/// # Errors
+/// Solver or model errors, singular Newton matrix, unstable orbit, no convergence.
+pub fn periodic_orbit_elastic(
+    sys: &mut PeriodicSystem,
+    rtol: f64,
+) -> Result<(ElasticReduced, InitReport), InitError> {
+    let scales = sys.scales_elastic();
+    let mut z = sys.elastic_start()?;
+    let mut report = InitReport {
+        rtol,
+        ..InitReport::default()
+    };
+    let tol_m = MONODROMY_RTOL.max(rtol);
+    let period = |sys: &mut PeriodicSystem,
+                  z: &ElasticReduced,
+                  tol: f64,
+                  report: &mut InitReport|
+     -> Result<ElasticReduced, PeriodicError> {
+        let (p, stats) = sys.integrate_elastic(z, 1, tol, None)?;
+        report.periods_integrated += 1;
+        report.steps += stats.naccpt;
+        Ok(p)
+    };
+    let p0 = period(sys, &z, tol_m, &mut report)?;
+    let steps = sys.fd_steps_elastic(FD_STEP, tol_m);
+    let mut m = ElasticMatrix::zeros();
+    for i in 0..NZE {
+        let mut zi = z;
+        zi[i] += steps[i];
+        let pi = period(sys, &zi, tol_m, &mut report)?;
+        m.set_column(i, &((pi - p0) / steps[i]));
+    }
+    report.floquet_max_abs = m
+        .complex_eigenvalues()
+        .iter()
+        .map(|c| c.norm())
+        .fold(0.0, f64::max);
+    if !(report.floquet_max_abs < 1.0) {
+        return Err(InitError::Unstable {
+            multiplier: report.floquet_max_abs,
+        });
+    }
+    let lu = (m - ElasticMatrix::identity()).lu();
+    let mut p = if tol_m == rtol {
+        p0
+    } else {
+        period(sys, &z, rtol, &mut report)?
+    };
+    let mut best = (f64::INFINITY, z);
+    for _ in 0..2 * MAX_CHORD {
+        let r = p - z;
+        let res = r
+            .iter()
+            .zip(scales.iter())
+            .fold(0.0f64, |a, (x, s)| a.max((x / s).abs()));
+        let stalled = res > 0.5 * best.0;
+        if res < best.0 {
+            best = (res, z);
+        }
+        if best.0 <= RESIDUAL_TOL || (stalled && best.0 <= RESIDUAL_ACCEPT) {
+            report.residual = best.0;
+            return Ok((best.1, report));
+        }
+        if stalled {
+            break;
+        }
+        let dz = lu.solve(&(-r)).ok_or(PeriodicError::Singular {
+            method: "shooting (chord, elastic)",
+        })?;
+        z += dz;
+        report.iterations += 1;
+        p = period(sys, &z, rtol, &mut report)?;
+    }
+    Err(PeriodicError::NoConvergence {
+        method: "shooting (chord, elastic)",
+        iterations: report.iterations,
+        residual: best.0,
+    }
+    .into())
 }
 
 #[cfg(test)]

@@ -22,7 +22,12 @@ __all__ = [
 
 
 def plot(results, out_dir=None, **kwargs):
-    """Draw the maps of a results directory (see plots.plot_results)."""
+    """Draw the maps of a results directory (see plots.plot_results), or the dynamic factor
+    of a continuation's (continuation.plot)."""
+    from . import continuation
+
+    if continuation.is_continuation(results):
+        return continuation.plot(results, out_dir=out_dir)
     from .plots import plot_results
 
     return plot_results(results, out_dir=out_dir, **kwargs)

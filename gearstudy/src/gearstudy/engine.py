@@ -101,6 +101,12 @@ def sweep(
     if not isinstance(study, Study):
         study = load_study(study, fmu=fmu)
     out = Path(out) if out is not None else Path("out") / "studies" / _slug(study.name)
+    if study.continuation is not None:
+        # series continued from a neighbour's orbit (continuation.py): ordered, not points
+        from . import continuation
+
+        return continuation.sweep(study, out, scheduler=scheduler, workers=workers,
+                                  serial=serial, client=client)
     store = ResultStore(out, study, overwrite=overwrite)
     items = [(i, point_key(p), p) for i, p in enumerate(study.points)]
     done = store.done_keys()

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import continuation as continuation_mod
 from . import damping
 from .units import Catalog, StudyError, parse_duration
 
@@ -67,6 +68,7 @@ class Study:
     fmu_sha256: str = ""  # the .fmu's bytes: a rebuilt binary is another model
     damping_modes: int = 0  # [damping] modes: modal damping columns per point (damping.py)
     damping_program: str = ""  # the `periodic` program that computes them
+    continuation: object = None  # [continuation]: series swept from a neighbour's orbit
 
     @property
     def variables(self) -> list[str]:
@@ -133,7 +135,8 @@ def study_from_dict(
     fmu: Path | str | None = None,
     catalog: Catalog | None = None,
 ) -> Study:
-    known = {"study", "fixed", "grid", "list", "lhs", "outputs", "window", "run", "damping"}
+    known = {"study", "fixed", "grid", "list", "lhs", "outputs", "window", "run", "damping",
+             "continuation"}
     unknown = set(data) - known
     if unknown:
         raise StudyError(f"unknown table(s) {sorted(unknown)}; allowed: {sorted(known)}")
@@ -228,6 +231,13 @@ def study_from_dict(
                 f"or ${damping.PROGRAM_ENV}"
             )
         damping_program = str(prog)
+    cont = None
+    if "continuation" in data:
+        if designs:
+            raise StudyError("[continuation] sweeps its own speeds, series by series; a study "
+                             "with it has no [grid], [list] or [lhs] (vary a value per series "
+                             "with [[continuation.series]] set = {...})")
+        cont = continuation_mod.parse(data["continuation"], cat, base, _axis)
     run = data.get("run", {})
     tol = run.get("tolerance")
     return Study(
@@ -247,6 +257,7 @@ def study_from_dict(
         fmu_sha256=hashlib.sha256(fmu_path.read_bytes()).hexdigest(),
         damping_modes=damping_modes,
         damping_program=damping_program,
+        continuation=cont,
     )
 
 
