@@ -237,3 +237,104 @@ fn rattle_hits_both_flanks_with_located_impacts() {
         }
     }
 }
+
+/// Reversal in the real-time mode (h_fixed = 1e-5 s): the fixed steps cross the onset
+/// (no retake: the work per doStep stays bounded), the crossing is still located on the
+/// step's polynomial and counted; the coast onset lies within one fixed step of the
+/// adaptive run's and the end state agrees.
+#[test]
+fn real_time_mode_crosses_and_reports_the_coast_onset() {
+    let p = elastic(Params {
+        d_phi: 0.05,
+        mu: 0.0,
+        ..Params::default()
+    });
+    let h_fixed = 1e-5;
+    let run = |fixed: bool| {
+        let mut s = sim(p, 1e-8, OMEGA1, 100.0);
+        if fixed {
+            s.set_h_fixed(h_fixed).unwrap();
+        }
+        let mut events = Vec::new();
+        let h = 1e-4;
+        for k in 0..400 {
+            let t = k as f64 * h;
+            let tl = if t < 0.02 {
+                100.0
+            } else {
+                (100.0 - 200.0 * (t - 0.02) / 0.005).max(-100.0)
+            };
+            s.set_input(Input::TLoad, tl).unwrap();
+            let rep = s.do_step(t, h).unwrap();
+            events.extend(rep.contact_events.iter().flatten().copied());
+        }
+        (events, s.outputs())
+    };
+    let (ea, oa) = run(false);
+    let (ef, of) = run(true);
+    let onset = |e: &[ContactEvent]| {
+        e.iter()
+            .find(|e| e.flank == Flank::Coast && e.onset)
+            .map(|e| e.t)
+            .unwrap()
+    };
+    let (ta, tf) = (onset(&ea), onset(&ef));
+    println!(
+        "coast onset adaptive {ta:.9} s, real-time {tf:.9} s ({:.2} fixed steps); impacts \
+         {} / {}; Fn_coast at 40 ms {:.2} / {:.2} N",
+        (tf - ta) / h_fixed,
+        oa.impacts,
+        of.impacts,
+        oa.fn_coast,
+        of.fn_coast
+    );
+    assert!((tf - ta).abs() < h_fixed);
+    assert!(of.impacts >= 1 && of.mesh_state == -1);
+    assert!((of.fn_coast - oa.fn_coast).abs() < 0.02 * oa.fn_coast);
+}
+
+/// A snapshot taken in coast contact after impacts continues bit-identically, impact
+/// count included (FMU state layout 7).
+#[test]
+fn snapshot_keeps_the_impact_count() {
+    let p = elastic(Params {
+        d_phi: 0.01,
+        ..Params::default()
+    });
+    let mut s = sim(p, 1e-6, OMEGA1, 0.0);
+    let h = 1e-4;
+    let omega1 = |t: f64| OMEGA1 * (1.0 + 0.05 * (2.0 * PI * 30.0 * t).sin());
+    let mut k = 0;
+    while s.impacts() < 3 {
+        let t = k as f64 * h;
+        s.set_input(Input::Omega1, omega1(t)).unwrap();
+        s.do_step(t, h).unwrap();
+        k += 1;
+        assert!(k < 1000);
+    }
+    // Through the serialised bytes, as fmi2SerializeFMUstate writes them.
+    let mut w = geared_rotor::bytes::Writer::default();
+    s.state().write(&mut w);
+    let mut rd = geared_rotor::bytes::Reader::new(&w.buf);
+    let snap = geared_rotor::sim::SimState::read(&mut rd).unwrap();
+    rd.finish().unwrap();
+    let mut r = Simulation::from_state(&snap).unwrap();
+    assert_eq!(r.impacts(), s.impacts());
+    for j in k..k + 200 {
+        let t = j as f64 * h;
+        for x in [&mut s, &mut r] {
+            x.set_input(Input::Omega1, omega1(t)).unwrap();
+            x.do_step(t, h).unwrap();
+        }
+        let (a, b) = (s.outputs(), r.outputs());
+        assert_eq!(a.impacts, b.impacts);
+        assert_eq!(a.fn_coast.to_bits(), b.fn_coast.to_bits());
+        assert_eq!(a.fn_.to_bits(), b.fn_.to_bits());
+    }
+    println!(
+        "restored at {} impacts; {} after 200 more steps",
+        3,
+        s.impacts()
+    );
+    assert!(s.impacts() > 3);
+}

@@ -49,58 +49,15 @@ impl Simulation {
         t_end: f64,
         report: &mut StepReport,
     ) -> Result<(), SimError> {
-        let model = &self.problem.model;
-        if !model.is_elastic() {
-            return Ok(());
-        }
-        let (tp, tn) = (self.solver.t_prev(), self.solver.t());
-        if tp >= tn || tp.is_nan() {
-            return Ok(());
-        }
-        let y_n = *self.solver.y();
-        let mut ys = SVector::<f64, NY>::zeros();
-        self.solver.dense_output(tp, &mut ys);
-        let (Some(e_n), Some(e_p)) = (
-            model.flank_event_functions(tn, &y_n),
-            model.flank_event_functions(tp, &ys),
-        ) else {
-            return Ok(());
+        let [a, b] = self.contact_crossings();
+        let first = match (a, b) {
+            (Some(a), Some(b)) => Some(if b.t < a.t { b } else { a }),
+            (a, b) => a.or(b),
         };
-        let mut first: Option<ContactEvent> = None;
-        for (k, flank) in [Flank::Drive, Flank::Coast].into_iter().enumerate() {
-            let (a, b) = (e_p[k], e_n[k]);
-            let onset = a <= 0.0 && b > 0.0;
-            if !(onset || (a > 0.0 && b <= 0.0)) {
-                continue;
-            }
-            // g >= 0 before the crossing, < 0 after it.
-            let sign = if onset { -1.0 } else { 1.0 };
-            let solver = &self.solver;
-            let g = |s: f64| {
-                let mut z = SVector::<f64, NY>::zeros();
-                solver.dense_output(s, &mut z);
-                let d = model.flank_event_functions(s, &z).map_or(0.0, |e| e[k]);
-                if onset && d == 0.0 {
-                    // delta = 0 is still apart: the onset is where delta > 0.
-                    f64::MIN_POSITIVE
-                } else {
-                    sign * d
-                }
-            };
-            let ga = if onset { -a } else { a };
-            let gb = sign * b;
-            let t_c = locate(g, tp, ga.max(0.0), tn, gb.min(-f64::MIN_POSITIVE));
-            if first.is_none_or(|f| t_c < f.t) {
-                first = Some(ContactEvent {
-                    t: t_c,
-                    flank,
-                    onset,
-                });
-            }
-        }
         let Some(ev) = first else {
             return Ok(());
         };
+        let (tp, tn) = (self.solver.t_prev(), self.solver.t());
         if ev.t > t_end {
             // On the look-ahead part: end this doStep on t_end; the next meets it again.
             return self.retake_to(t_end);
@@ -139,6 +96,79 @@ impl Simulation {
             ..ev
         });
         Ok(())
+    }
+
+    /// The sign changes of the drive and the coast flanks' force functions in the step
+    /// just accepted, each located on its collocation polynomial (to `LOCATE_TOL`); none
+    /// for rigid teeth.
+    fn contact_crossings(&self) -> [Option<ContactEvent>; 2] {
+        let mut out = [None, None];
+        let model = &self.problem.model;
+        if !model.is_elastic() {
+            return out;
+        }
+        let (tp, tn) = (self.solver.t_prev(), self.solver.t());
+        if tp >= tn || tp.is_nan() {
+            return out;
+        }
+        let y_n = *self.solver.y();
+        let mut ys = SVector::<f64, NY>::zeros();
+        self.solver.dense_output(tp, &mut ys);
+        let (Some(e_n), Some(e_p)) = (
+            model.flank_event_functions(tn, &y_n),
+            model.flank_event_functions(tp, &ys),
+        ) else {
+            return out;
+        };
+        for (k, flank) in [Flank::Drive, Flank::Coast].into_iter().enumerate() {
+            let (a, b) = (e_p[k], e_n[k]);
+            let onset = a <= 0.0 && b > 0.0;
+            if !(onset || (a > 0.0 && b <= 0.0)) {
+                continue;
+            }
+            // g >= 0 before the crossing, < 0 after it.
+            let sign = if onset { -1.0 } else { 1.0 };
+            let solver = &self.solver;
+            let g = |s: f64| {
+                let mut z = SVector::<f64, NY>::zeros();
+                solver.dense_output(s, &mut z);
+                let d = model.flank_event_functions(s, &z).map_or(0.0, |e| e[k]);
+                if onset && d == 0.0 {
+                    // delta = 0 is still apart: the onset is where delta > 0.
+                    f64::MIN_POSITIVE
+                } else {
+                    sign * d
+                }
+            };
+            let ga = if onset { -a } else { a };
+            let gb = sign * b;
+            let t_c = locate(g, tp, ga.max(0.0), tn, gb.min(-f64::MIN_POSITIVE));
+            out[k] = Some(ContactEvent {
+                t: t_c,
+                flank,
+                onset,
+            });
+        }
+        out
+    }
+
+    /// Real-time mode (`realtime`): the fixed step just taken is kept whatever it
+    /// crossed (the work per doStep stays bounded); the crossings are still located on
+    /// its polynomial, reported and, for an onset, counted.
+    pub(super) fn note_contact_crossings(&mut self, report: &mut StepReport) {
+        let [a, b] = self.contact_crossings();
+        let mut evs = [a, b];
+        if let [Some(x), Some(y)] = evs {
+            if y.t < x.t {
+                evs = [Some(y), Some(x)];
+            }
+        }
+        for ev in evs.into_iter().flatten() {
+            if ev.onset {
+                self.impacts += 1;
+            }
+            report.note_contact(ev);
+        }
     }
 }
 

@@ -158,12 +158,28 @@ impl Simulation {
             // Bounded work per doStep (`max_internal_steps`), as in the adaptive mode.
             self.check_work(k - 1, t_end)?;
             let tk = if k == n { t_end } else { t + k as f64 * h };
-            match self
+            let mut r = self
                 .solver
-                .fixed_step(&mut self.problem, h, tk, NEWTON_ITERATIONS)
+                .fixed_step(&mut self.problem, h, tk, NEWTON_ITERATIONS);
+            if matches!(r, Err(crate::radau5::Error::FixedStepNewton { .. }))
+                && self.problem.model.is_elastic()
             {
+                // An elastic flank set in or let go inside the step: the contact stiffness
+                // in J appeared or vanished. Once: a new J and LU pair here, the step again
+                // (the state is unchanged after a failed fixed step).
+                r = self
+                    .solver
+                    .fixed_prepare(&mut self.problem, h)
+                    .and_then(|()| {
+                        self.solver
+                            .fixed_step(&mut self.problem, h, tk, NEWTON_ITERATIONS)
+                    });
+            }
+            match r {
                 Ok(tn) => {
                     let y: SVector<f64, NY> = *self.solver.y();
+                    // Contact onsets and separations: crossed, located for the report.
+                    self.note_contact_crossings(&mut report);
                     self.track_contact(tn, &y, &mut report);
                     self.check_validity(tn, &y, &mut report)?;
                 }
