@@ -16,6 +16,7 @@ use crate::fmi2::logging::{Category, Logger};
 use crate::fmi2::model::{Experiment, Model, Phase, Status, StepEnd};
 use crate::fmi2::variables::{self, Causality, Var, VarType, Variable, N_VARIABLES};
 use crate::fmt_num::Short;
+use crate::sim::contact_events::Flank;
 use crate::sim::{
     self, Initialization, Input, OnViolation, SimError, Simulation, RTOL_MAX, RTOL_MIN,
 };
@@ -245,6 +246,34 @@ impl GearedRotorFmu {
                     Status::OK,
                     Category::Events,
                     &format!("t = {:.12} s (located): {what}", c.t),
+                );
+            }
+            for c in report.contact_events.iter().flatten() {
+                let flanks = match c.flank {
+                    Flank::Drive => "drive",
+                    Flank::Coast => "coast",
+                };
+                let what = if c.onset {
+                    "touch (an impact; the impacts output counts it)"
+                } else {
+                    "no longer push (their force fell to 0; they part)"
+                };
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!("t = {:.12} s (located): the {flanks} flanks {what}", c.t),
+                );
+            }
+            if report.contact_events_dropped > 0 {
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!(
+                        "{} further contact onsets/separations in [{}, {}] s",
+                        report.contact_events_dropped,
+                        Short(t0),
+                        Short(ccp + h)
+                    ),
                 );
             }
             if report.stick_changes_dropped > 0 {

@@ -20,13 +20,13 @@ pub fn iso_min_backlash(a_w: f64, m_n: f64) -> f64 {
 impl PairGeometry {
     /// Transverse play between the coast flanks along the line of action when the drive
     /// flanks touch undeflected at the operating centre distance: `j_t = j_bn / cos beta_b`
-    /// (`model.md` (3.23)), m.
+    /// (`model.md` (3.26)), m.
     pub fn play(&self) -> f64 {
         self.data.j_bn / self.cos_beta_b
     }
 
     /// The play at the working pressure angle `alpha` of a displaced state:
-    /// `j_t + 2 R (inv alpha - inv alpha_wt)` (`model.md` (3.24)); `d/da` of it is
+    /// `j_t + 2 R (inv alpha - inv alpha_wt)` (`model.md` (3.25)); `d/da` of it is
     /// `2 sin alpha`, the textbook `Delta j = 2 Delta a sin alpha`.
     pub fn play_at(&self, alpha: f64) -> f64 {
         self.play() + 2.0 * self.r_sum * (inv(alpha) - self.inv_alpha_wt)
@@ -34,7 +34,7 @@ impl PairGeometry {
 
     /// Base tooth thickness (arc on the base circle) of gear `j` (1 or 2) without
     /// thinning, from its profile shift (ISO 21771: `s_t = m_t (pi/2 + 2 x tan alpha_n)`,
-    /// `s_bt = d_b (s_t / d + inv alpha_t)`), m (`model.md` (3.25)).
+    /// `s_bt = d_b (s_t / d + inv alpha_t)`), m (`model.md` (3.27)).
     pub fn base_tooth_thickness0(&self, j: usize) -> f64 {
         let d = &self.data;
         let (x, r, rb) = if j == 1 {
@@ -50,7 +50,7 @@ impl PairGeometry {
     /// The thinning of both gears together that gives the backlash `j_bn` at a_w, along
     /// the line of action: `j_t` minus the play that a_w alone opens for teeth of the
     /// thickness of [`PairGeometry::base_tooth_thickness0`] (0 when a_w follows from the
-    /// shifts, (2.6)), m (`model.md` (3.26)). Negative when `a_w_set` opens more play than
+    /// shifts, (2.6)), m (`model.md` §3.6, below (3.27)). Negative when `a_w_set` opens more play than
     /// `j_bn` (teeth thicker than their shifts say).
     pub fn thinning(&self) -> f64 {
         let d = &self.data;
@@ -60,7 +60,7 @@ impl PairGeometry {
     }
 
     /// The initial phase (in base pitches) of the coast contact lines in the mirrored pair
-    /// (`model.md` (3.27)): gear 1's tooth whose drive flank lies at `s_d` on the drive
+    /// (`model.md` §3.6, "How the model evaluates it"; (3.27)): gear 1's tooth whose drive flank lies at `s_d` on the drive
     /// line lies at `s_c = 2 r_b1 alpha + s_b1 - s_d` on the coast line, with gear 1's base
     /// tooth thickness `s_b1` less half the thinning.
     pub fn coast_phase(&self, psi0: f64) -> f64 {
@@ -68,7 +68,7 @@ impl PairGeometry {
         (s_b1 - 2.0 * self.rb1 * self.inv_alpha_wt) / self.p_bt - psi0
     }
 
-    /// Gap offset of the coast flanks (`model.md` (3.28)): with the drive gap offset g0,
+    /// Gap offset of the coast flanks (`model.md` (3.26)): with the drive gap offset g0,
     /// `g_c0 = j_t - 2 R inv alpha_wt - g0`, so that `g + g_c` is the play of
     /// [`PairGeometry::play_at`].
     pub fn coast_gap_offset(&self, g0: f64) -> f64 {

@@ -6,7 +6,7 @@
 //! across it would smear the impact over the step, so the stepper lands on it: after each accepted step the approaches at both ends are compared,
 //! a sign change is located on the step's collocation polynomial (to
 //! [`LOCATE_TOL`](super::validity::LOCATE_TOL)), the step is retaken to end just after it
-//! and the stepper restarts there with a fresh Jacobian. Every onset counts as an impact.
+//! and f is renewed there. Every onset counts as an impact.
 
 use super::error::{solver_err, SimError};
 use super::stepping::StepReport;
@@ -43,7 +43,7 @@ impl Simulation {
     /// Contact onsets and separations in the step just accepted (the stepper at its end);
     /// `t_end` is the FMU time this doStep steps to. Lands on the first one: retakes the
     /// step to end there (or, on the look-ahead part past `t_end`, on `t_end`: the next
-    /// doStep meets it again) and restarts the stepper.
+    /// doStep meets it again) and renews f there.
     pub(super) fn contact_events(
         &mut self,
         t_end: f64,
@@ -64,13 +64,16 @@ impl Simulation {
         }
         // A crossing at the very start of the step (the landing of the last step fell a
         // hair short of it): the step is kept, as a retake would be a sliver; the event
-        // counts at its located instant and the stepper restarts at the step's end.
+        // counts at its located instant and f is renewed at the step's end.
         let sliver = (ev.t - tp) <= (1e-9 * (tn - tp)).max(4.0 * f64::EPSILON * tn.abs());
         if !sliver {
             self.retake_to(ev.t)?;
         }
         let y = *self.solver.y();
-        if let Err(e) = self.solver.restart(&mut self.problem, y, None) {
+        // f jumps here: a fresh f. J and the step-size history are kept (the stepper renews
+        // J when Newton slows down): rattle, 0.1 s at rtol 1e-6: 39636 f, 939 J, 4119 LU
+        // instead of 41284, 1043, 4359 with a full restart.
+        if let Err(e) = self.solver.refresh(&mut self.problem, y) {
             let ts = self.solver.t();
             self.restart_pending = true;
             return Err(solver_err(e, ts));

@@ -420,8 +420,8 @@ fn chord_matrix(
 /// state of `periodic::elastic`, chord shooting from the elastic start (static equilibrium,
 /// flanks at the static approach) with one forward-difference monodromy at
 /// `MONODROMY_RTOL` (its eigenvalues checked for stability), the period maps at `rtol`.
-/// Stops at [`RESIDUAL_TOL`], or when the iteration stalls with the best residual at most
-/// [`RESIDUAL_ACCEPT`].
+/// Stops at `RESIDUAL_TOL`, or when the iteration stalls with the best residual at most
+/// `RESIDUAL_ACCEPT`.
 ///
 /// # Errors
 /// Solver or model errors, singular Newton matrix, unstable orbit, no convergence.

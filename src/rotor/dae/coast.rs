@@ -5,7 +5,7 @@
 //! through both axes (y -> -y) turns each coast flank into a drive flank, reverses both
 //! senses of rotation and the helix hand, and keeps the involute geometry. So the coast
 //! contact is the drive contact of the mirrored pair (`beta -> -beta`, the coast phase of
-//! (3.27), the coast gap offset of (3.28)) at the mirrored state `S y`; its generalised
+//! from (3.27), the coast gap offset of (3.26)) at the mirrored state `S y`; its generalised
 //! forces come back through `S` (S = S^-1 = S^T flips u_y, xi, their rates, phi1, omega1
 //! and omega1'), forces through the reflection R and moments through -R (a moment is an
 //! axial vector). Every friction law applies unchanged on the coast lines.
@@ -48,7 +48,7 @@ pub(crate) struct CoastFlank {
     mirror: Box<GearedRotor>,
 }
 
-/// What the coast contact adds to f at a state (`model.md` (3.29)).
+/// What the coast contact adds to f at a state (`model.md` §3.6: (3.23), (3.24) with (3.15)-(3.16)).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct CoastTerms {
     /// The coast contact: approach, rate, length, stiffness, force, energies.
@@ -78,13 +78,13 @@ impl CoastFlank {
 }
 
 impl GearedRotor {
-    /// The coast gap offset g_c0 of (3.28) at the model's drive offset g0.
+    /// The coast gap offset g_c0 of (3.26) at the model's drive offset g0.
     fn coast_offset(&self) -> f64 {
         self.geom.coast_gap_offset(self.g0)
     }
 
     /// The normal approach of the coast flanks `delta_c = -cos(beta_b) g_c` (`model.md`
-    /// (3.28)) from the drive side's mesh `m` (no mirrored mesh needed):
+    /// (3.23)) from the drive side's mesh `m` (no mirrored mesh needed):
     /// `g_c = R (inv alpha - theta) - xi - tan(beta_b) (u2z - u1z) + g_c0`, m.
     pub(crate) fn coast_approach(&self, m: &crate::gear::Mesh, xi: f64) -> f64 {
         let g = &self.geom;
@@ -236,7 +236,7 @@ impl GearedRotor {
 
 impl GearedRotor {
     /// The contact event functions of the drive and the coast flanks at y,
-    /// `phi = min(delta, delta + (d_l / c_l) delta')` in m (`model.md` (3.30)): positive
+    /// `phi = min(delta, delta + (d_l / c_l) delta')` in m (`model.md` (3.28)): positive
     /// exactly where the flanks push (`delta > 0` and `c_l delta + d_l delta' > 0`, (3.15)),
     /// so its sign changes are the jumps and kinks of f: an onset (delta crosses 0 with
     /// `delta' > 0`, where the damping force sets in) and the instant the force falls to 0
@@ -256,7 +256,7 @@ impl GearedRotor {
         let tau = e.d_l / e.c_l;
         let phi = |d: f64, d_dot: f64| d.min(d + tau * d_dot);
         let phi_c = if self.coast.is_some() {
-            // delta_c = -cos(beta_b) play(alpha) - delta ((3.24), (3.28)), and
+            // delta_c = -cos(beta_b) play(alpha) - delta ((3.25), (3.26)), and
             // d play / dt = 2 sin(alpha) a' with a' = d . d' / a.
             let d = m.c2 - m.c1;
             let a_dot = (d.x * (y[v + 3] - y[v]) + d.y * (y[v + 4] - y[v + 1])) / m.a;

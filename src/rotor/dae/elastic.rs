@@ -97,7 +97,7 @@ impl GearedRotor {
     }
 
     /// [`GearedRotor::elastic_contact`] with the gap offset `g0` given (the coast flank,
-    /// `coast`, evaluates the mirrored pair with the coast offset (3.28)).
+    /// `coast`, evaluates the mirrored pair with the coast offset (3.26)).
     pub(crate) fn elastic_contact_with(
         &self,
         y: &SVector<f64, NY>,
