@@ -338,3 +338,47 @@ fn snapshot_keeps_the_impact_count() {
     );
     assert!(s.impacts() > 3);
 }
+
+/// Free flight far from the nominal centre distance: with the centres pulled 2.5 mm apart a
+/// spur pair's contact ratio falls below 1, so at some phases no drive line is active; the
+/// flanks are apart there (no force), and f and the outputs are still defined (the friction
+/// needs no contact line without a force).
+#[test]
+fn free_flight_needs_no_active_contact_line() {
+    use geared_rotor::gear::GearData;
+    use geared_rotor::rotor::{idx, GearedRotor, Inputs, NY};
+    use nalgebra::SVector;
+    let p = elastic(Params {
+        gear: GearData {
+            beta: 0.0,
+            ..GearData::default()
+        },
+        ..Params::default()
+    });
+    let mut m = GearedRotor::new(p).unwrap();
+    m.set_inputs(Inputs {
+        omega1: OMEGA1,
+        ..Inputs::default()
+    });
+    let y0 = m.initialize(0.0).unwrap();
+    let g = *m.geometry();
+    let mut found = 0;
+    for i in 0..200 {
+        let mut y = y0;
+        y[3] = 2.5e-3;
+        y[idx::PHI1] = g.phi1_period * i as f64 / 200.0;
+        let e = m.elastic_contact_at(0.0, &y).unwrap();
+        if e.length > 0.0 {
+            continue;
+        }
+        found += 1;
+        assert!(e.delta < 0.0 && e.fn_ == 0.0);
+        let mut f = SVector::<f64, NY>::zeros();
+        m.rhs(0.0, &y, &mut f).unwrap();
+        let o = m.outputs(0.0, &y);
+        assert!(o.t1.is_finite() && o.p_loss == 0.0 && o.contact_length == 0.0);
+        assert!(o.f_contact2.iter().all(|x| x.is_finite()));
+    }
+    println!("{found} of 200 phases without an active drive line");
+    assert!(found > 0);
+}

@@ -165,6 +165,11 @@ impl<const N: usize> Radau5<N> {
     pub fn t_prev(&self) -> f64 {
         self.st.t_prev
     }
+    /// The state at [`Radau5::t_prev`] as the last step started from it (exact, not the
+    /// dense output there, which differs by its interpolation error).
+    pub fn y_prev(&self) -> &SVector<f64, N> {
+        &self.st.y_prev
+    }
     /// Step size the next step will try (the controller's proposal, before any stop-time
     /// clipping).
     pub fn h(&self) -> f64 {

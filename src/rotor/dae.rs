@@ -319,11 +319,18 @@ impl GearedRotor {
             Some(c) => c.fn_,
             None => y[idx::LAMBDA],
         };
-        let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
         let fr = if elastic.is_some() {
             // No stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
-            sums.resultants(mu, lam)
+            // Without force no friction, and no contact line needed (free flight, or a
+            // vibration that moves the centres so far that no drive line is active).
+            if lam == 0.0 {
+                crate::gear::Friction::default()
+            } else {
+                let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
+                sums.resultants(mu, lam)
+            }
         } else {
+            let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
             self.friction_resultants(t, y, &m, &sums, mu)
         };
         let grow = g.constraint_row(&m);
@@ -881,7 +888,14 @@ impl GearedRotor {
             if let Ok(m) = self.mesh(t, y) {
                 z[idx::LAMBDA] = self.elastic_contact(y, &m).fn_;
             }
-            let res = self.point_friction(t, &z);
+            let res = match self.point_friction(t, &z) {
+                // No drive line active and no force (free flight of a large vibration):
+                // the outputs without drive friction, not NaN.
+                Err(ModelError::NoContact { .. }) if z[idx::LAMBDA] == 0.0 => {
+                    self.mesh(t, y).map(|m| (m, FrictionSums::default(), 0.0))
+                }
+                r => r,
+            };
             let mut o = self.outputs_with(t, &z, res);
             self.add_coast_outputs(t, y, &mut o);
             // The stiffness variation's work: spring energy minus the work stored.
@@ -1007,7 +1021,13 @@ impl GearedRotor {
         } else {
             o.mesh_state = 1;
         }
-        o.mu_eff = self.mean_coefficient(&sums, mu);
+        let l = sums.contact.length;
+        // (l = 0 only for the elastic contact in free flight: no line, no coefficient.)
+        o.mu_eff = if l > 0.0 {
+            self.mean_coefficient(&sums, mu)
+        } else {
+            f64::NAN
+        };
         o.mu_mz = self.iso.mu(lam, omega1, omega2);
         o.t1 = lam * g.rb1 * g.cos_beta_b - fr.m1.z + self.params.rotor1.j * omega1_dot;
         o.p_in = o.t1 * omega1;
@@ -1017,7 +1037,7 @@ impl GearedRotor {
         o.pairs_in_contact = sums.contact.pairs;
         // Normal load lambda / l per unit length along every line: force +-lambda n,
         // moments (lambda / l) int (P - c_j) ds x n.
-        let q = lam / sums.contact.length;
+        let q = if l > 0.0 { lam / l } else { 0.0 };
         let fn2 = lam * m.n;
         let mn1 = -q * sums.arm1.cross(&m.n);
         let mn2 = q * sums.arm2.cross(&m.n);

@@ -114,12 +114,13 @@ impl Simulation {
         if tp >= tn || tp.is_nan() {
             return out;
         }
-        let y_n = *self.solver.y();
-        let mut ys = SVector::<f64, NY>::zeros();
-        self.solver.dense_output(tp, &mut ys);
+        // The step's own start state, not the dense output at t_prev: a landing that ended a
+        // hair short of a crossing (phi = -0.0) must still count as before it, and the new
+        // polynomial's value there may round to the other side.
+        let (y_p, y_n) = (self.solver.y_prev(), self.solver.y());
         let (Some(e_n), Some(e_p)) = (
-            model.flank_event_functions(tn, &y_n),
-            model.flank_event_functions(tp, &ys),
+            model.flank_event_functions(tn, y_n),
+            model.flank_event_functions(tp, y_p),
         ) else {
             return out;
         };

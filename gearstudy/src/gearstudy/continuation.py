@@ -277,6 +277,10 @@ def is_continuation(results) -> bool:
     return (Path(results) / CSV).is_file() and (Path(results) / META).is_file()
 
 
+# The dynamic-factor axis is cut here (see `plot`).
+CAP = 12.0
+
+
 def plot(results, out_dir=None) -> list[Path]:
     """dynamic_factor.png: max Fn / F_static against the drive speed in rpm, each series up
     (solid, filled markers) and down (dashed, open markers), the points without a stable
@@ -294,6 +298,10 @@ def plot(results, out_dir=None) -> list[Path]:
     out_dir.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(figsize=(8.0, 4.6))
     colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"]
+    # An unbounded response (a parametric instability of a mesh without backlash grows
+    # until the simulation stops) would flatten every other curve: above CAP the axis is
+    # cut and such points are drawn at the top with their value.
+    cap = CAP if any(r["dynamic_factor"] > CAP for r in rows) else None
     series = list(dict.fromkeys(r["series"] for r in rows))
     for i, s in enumerate(series):
         c = colours[i % len(colours)]
@@ -304,10 +312,17 @@ def plot(results, out_dir=None) -> list[Path]:
                 continue
             x = np.array([p["rpm"] for p in pts])
             y = np.array([p["dynamic_factor"] for p in pts])
-            ax.plot(x, y, style, color=c, lw=1.3, label=f"{s}, sweep {d}")
             per = np.array([p["periodic"] for p in pts])
+            if cap is not None:
+                y = np.minimum(y, cap)
+            ax.plot(x, y, style, color=c, lw=1.3, label=f"{s}, sweep {d}")
             ax.plot(x[per], y[per], "o", ms=4, color=c, mfc=face)
             ax.plot(x[~per], y[~per], "x", ms=6, color=c)
+            if cap is not None:
+                for p in pts:
+                    if p["dynamic_factor"] > cap:
+                        ax.annotate(f"{p['dynamic_factor']:.0f}", (p["rpm"], cap), xytext=(4, -10),
+                                    textcoords="offset points", fontsize=7, color=c)
     n_res = meta.get("resonance_rpm", float("nan"))
     if math.isfinite(n_res):
         ymin, ymax = ax.get_ylim()
@@ -318,6 +333,8 @@ def plot(results, out_dir=None) -> list[Path]:
             ax.axvline(k * n_res, color="k", lw=0.9, ls=":" if k != 1.0 else "-.")
             ax.text(k * n_res, ymin + 0.55 * (ymax - ymin), f" {lab}\n {k * n_res:.0f} rpm",
                     va="center", ha="left", fontsize=8)
+    if cap is not None:
+        ax.set_ylim(0.0, cap * 1.04)
     ax.set_xlabel("drive speed n1 [rpm]")
     ax.set_ylabel("max Fn / F_static")
     f_m = meta.get("closed_form_hz", float("nan"))
