@@ -250,9 +250,11 @@ def test_rattle_hits_both_flanks_and_counts_the_impacts(pkg):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "an onset in the first internal step after an input change (doStep after fmi2SetReal "
-    "of omega1, no look-ahead) is not counted: here the coast onset in (80.0, 80.1] ms; "
-    "with omega1 not set at 80.0 ms it is counted"))
+    "an onset located at the end of a retaken step that is not yet across (phi = -0.0 there) "
+    "is left to the next step, whose start phi from the dense output rounds to +2e-19: no "
+    "sign change, not counted (src/sim/contact_events.rs, contact_crossings uses "
+    "dense_output(t_prev), not the step's exact start state; seen so at 60.39 ms in the same "
+    "run through the Rust API); here the coast onset in (80.0, 80.1] ms"))
 def test_rattle_counts_each_onset_in_its_interval(pkg):
     """Every communication interval at whose end the flanks touch and at whose start they
     did not raises `impacts` by at least 1 (the onset is in that interval)."""
