@@ -27,11 +27,13 @@ MEANING = {
     "x2": "profile shift of gear 2 (idem)", "h_aP": "addendum coefficient of the basic rack",
     "a_w_set": "centre distance; 0 = from x1 + x2 (zero backlash)",
     "psi0": "initial mesh phase in base pitches (only the fractional part matters)",
-    "m1": "mass of rotor 1", "J1": "polar inertia of rotor 1", "m2": "mass of rotor 2",
-    "J2": "polar inertia of rotor 2", "d_phi": "rotational damper on gear 2 (tunable)",
+    "m1": "mass of rotor 1; 0 = solid steel gear body from the geometry (`m1_solid`)",
+    "J1": "polar inertia of rotor 1; 0 = solid steel gear body from the geometry (`J1_solid`)",
+    "m2": "mass of rotor 2; 0 = solid steel gear body from the geometry (`m2_solid`)",
+    "J2": "polar inertia of rotor 2; 0 = solid steel gear body from the geometry (`J2_solid`)", "d_phi": "rotational damper on gear 2 (tunable)",
     "mu": "Coulomb friction coefficient of laws 1 and 2 (tunable)",
     "friction_law": "1 Coulomb; 2 regularised Coulomb; 3 ISO/TR 14179-2 mean coefficient; "
-                    "4 local EHL coefficient (docs/friction.md)",
+                    "4 local EHL coefficient; 5 Benedict & Kelley coefficient (docs/friction.md)",
     "initialization": "1 rest, 2 static_equilibrium, 3 periodic (Enumeration; see below)",
     "on_lift_off": "1 warn, 2 discard, when Fn < 0 or the drive reverses (Enumeration)",
     "max_internal_steps": "most internal steps per doStep, then fmi2Discard (tunable)",
@@ -41,6 +43,19 @@ MEANING = {
     "E1": "Young's modulus of gear 1 (law 4)", "nu1": "Poisson's ratio of gear 1 (law 4)",
     "E2": "Young's modulus of gear 2 (law 4)", "nu2": "Poisson's ratio of gear 2 (law 4)",
     "omega1_filter_frequency": "corner frequency of the omega1 filter",
+    "c_gamma": "mean mesh stiffness per unit face width; 0 = from ISO 6336-1 (calculated parameter "
+               "`c_gamma_used`, docs/model.md §2.1); used by `tooth_contact = elastic` (§3.5), not by "
+               "the rigid model",
+    "h_fP": "dedendum coefficient of the basic rack (ISO 6336-1 stiffness only, docs/model.md §2.1)",
+    "tooth_contact": "1 rigid (default: the paper's index-2 DAE), 2 elastic teeth: drive and coast "
+                     "flanks, Fn = l(t) max(0, c_l delta + d_l delta') with c_l from `c_gamma_used`, "
+                     "free flight in the backlash `j_bn` between them (docs/model.md §3.5, §3.6) "
+                     "(Enumeration)",
+    "zeta_mesh": "damping ratio of the elastic mesh on the equivalent mass of the mesh mode "
+                 "(docs/model.md §3.5); elastic contact only",
+    "j_bn": "normal backlash at the operating centre distance (play of the coast flanks), "
+            "0 <= j_bn <= m_n/2, else refused; grows with the centre distance; elastic contact "
+            "only (docs/model.md §3.6)",
     "rtol": "RADAU5 relative tolerance (fmi2SetupExperiment overrides)", "h_max": "largest internal step",
 }
 

@@ -88,6 +88,7 @@ FMI3_MODULES = {
     "test_lift_off",
     "test_reference_run",
     "test_fmi3",
+    "test_coast_flank",
 }
 
 # Tests of those modules that need an FMI 2.0 function (module::test -> reason).

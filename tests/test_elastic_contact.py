@@ -1,8 +1,10 @@
-"""The elastic drive-flank contact through the packaged .fmu (tooth_contact = elastic,
-docs/model.md §3.5): the new variables' declarations, their rigid values, an elastic run
-whose outputs obey (3.13)-(3.17) and the energy balance (3.21), a rattle run without
-Discard or warning (with on_lift_off = discard), and the start on the periodic orbit.
-The physics checks against independent computations are in tests/elastic_contact.rs."""
+"""The elastic contact through the packaged .fmu (tooth_contact = elastic, docs/model.md
+§3.5): the new variables' declarations, their rigid values, an elastic run on the drive
+flanks whose outputs obey (3.13)-(3.17) and the energy balance (3.21), a rattle run without
+Discard or warning (with on_lift_off = discard) whose free flight has no force and no
+stiffness, and the start on the periodic orbit. The coast flanks and the backlash (load
+reversal, impacts on both flanks, j_bn): tests/test_coast_flank.py. The physics checks
+against independent computations are in tests/elastic_contact.rs and tests/coast_flank.rs."""
 
 from __future__ import annotations
 
@@ -13,7 +15,8 @@ import numpy as np
 from helpers.fmu_harness import FMI2_OK, call_status, run
 from helpers.gear_theory import GearData, geometry
 
-NEW_OUTPUTS = ["mesh_deflection", "mesh_stiffness", "mesh_state", "W_mesh_stiffness"]
+NEW_OUTPUTS = ["mesh_deflection", "mesh_stiffness", "mesh_state", "W_mesh_stiffness",
+               "Fn_coast", "impacts"]
 ENERGIES = ["E_in", "E_load", "E_kin", "E_pot", "E_loss", "E_damp", "W_mesh_stiffness"]
 
 
@@ -31,6 +34,7 @@ def test_rigid_values_of_the_new_outputs(pkg):
     tr = run(pkg, 2e-3, 1e-4, params={"T_load": 50.0}, record=NEW_OUTPUTS + ["Fn"])
     assert np.all(tr["mesh_deflection"] == 0.0) and np.all(tr["mesh_stiffness"] == 0.0)
     assert np.all(tr["mesh_state"] == 1) and np.all(tr["W_mesh_stiffness"] == 0.0)
+    assert np.all(tr["Fn_coast"] == 0.0) and np.all(tr["impacts"] == 0)
 
 
 def balance(tr):
@@ -47,7 +51,9 @@ def test_elastic_run_follows_the_contact_law_and_balances_energy(pkg):
     cos_bb = math.cos(g.beta_b)
     c_l = tr["c_gamma_used"][0] * cos_bb / g.eps_alpha
     assert np.allclose(tr["mesh_stiffness"], c_l * tr["contact_length"], rtol=1e-12)
+    # 80 N m keeps the drive flanks in contact: the coast flanks never touch.
     assert np.all(tr["mesh_state"] == 1) and np.all(tr["Fn"] > 0)
+    assert np.all(tr["Fn_coast"] == 0.0) and np.all(tr["impacts"] == 0)
     # Fn = k delta + damping: within a few per cent of the static relation.
     static = tr["mesh_stiffness"] * tr["mesh_deflection"]
     assert np.all(np.abs(tr["Fn"] - static) < 0.05 * tr["Fn"])
@@ -56,22 +62,35 @@ def test_elastic_run_follows_the_contact_law_and_balances_energy(pkg):
 
 
 def test_rattle_without_discard_or_warning(pkg):
+    """omega1 +-5 % at 30 Hz without load: the drive flanks part and meet again (and,
+    through the play j_bn, the coast flanks are hit: mesh_state -1), never a Discard or a
+    warning with on_lift_off = discard. In free flight (mesh_state 0) no flank force and no
+    stiffness (mesh_stiffness is that of the flanks in contact, 0 in flight); Fn only on
+    the drive flanks."""
     w = 314.159
     params = {"tooth_contact": 2, "initialization": 2, "d_phi": 0.01, "on_lift_off": 2,
               "omega1": w}
     inst = pkg.instance("rattle", logging_on=True)
     try:
         inst.initialize(params)
-        free, fn_min = 0, math.inf
+        states, fn_min = [], math.inf
         h = 1e-4
         for k in range(500):
             t = k * h
             inst.set({"omega1": w * (1 + 0.05 * math.sin(2 * math.pi * 30 * t))})
             assert call_status(inst.do_step, h) == FMI2_OK, inst.messages()
-            o = inst.get(["Fn", "mesh_state"])
-            free += int(o["mesh_state"]) == 0
+            o = inst.get(["Fn", "Fn_coast", "mesh_state", "mesh_stiffness"])
+            states.append(int(o["mesh_state"]))
             fn_min = min(fn_min, o["Fn"])
+            if o["mesh_state"] == 0:
+                assert o["mesh_stiffness"] == 0.0 and o["Fn"] == 0.0 and o["Fn_coast"] == 0.0
+            else:
+                assert o["mesh_stiffness"] > 0.0
+            if o["mesh_state"] == -1:
+                assert o["Fn"] == 0.0
+        free = states.count(0)
         assert free > 10, free
+        assert states.count(1) > 10 and states.count(-1) > 0, states
         assert fn_min >= 0.0
         assert not inst.messages(min_status=1), inst.messages(min_status=1)
     finally:

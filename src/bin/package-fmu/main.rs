@@ -10,7 +10,8 @@
 //!    `generationDateAndTime` = the commit date of the sources, `build_date`),
 //!    `binaries/linux64/GearedRotor.so`, and `documentation/`: `index.html` (generated from
 //!    the model description, `index_html`), the figures (`figures`), the model, solver and
-//!    FMI documents of `docs/` with the sketch, `LICENSE.txt`, and the reference run
+//!    FMI documents of `docs/` with the sketch and the figures of the load reversal and the
+//!    rattle with elastic teeth (`docs/figures/*.png`), `LICENSE.txt`, and the reference run
 //!    `GearedRotor_in.csv` / `GearedRotor_ref.csv` of `data/reference_run/`. Fixed
 //!    timestamps (1980-01-01) and file order, so the same commit gives the same archive
 //!    bytes for the same .so.
@@ -41,6 +42,10 @@ const VALIDITY_MD: &str = include_str!("../../../docs/validity.md");
 const DRIVETRAIN_MD: &str = include_str!("../../../docs/drivetrain.md");
 const FRICTION_MD: &str = include_str!("../../../docs/friction.md");
 const SKETCH_SVG: &str = include_str!("../../../docs/figures/geared_rotor.svg");
+// The coast flanks with elastic teeth: figures of scripts/coast_figures.py (README "Load
+// reversal and rattle (elastic teeth)").
+const REVERSAL_PNG: &[u8] = include_bytes!("../../../docs/figures/reversal.png");
+const RATTLE_PNG: &[u8] = include_bytes!("../../../docs/figures/rattle.png");
 const LICENSE: &str = include_str!("../../../LICENSE");
 const RADAU5_REFERENCE_MD: &str = include_str!("../../../data/radau5/reference.md");
 const REF_IN: &str = include_str!("../../../data/reference_run/GearedRotor_in.csv");
@@ -114,6 +119,16 @@ fn run() -> Result<(PathBuf, PathBuf), String> {
         (
             "documentation/figures/geared_rotor.svg",
             text(SKETCH_SVG),
+            0o644,
+        ),
+        (
+            "documentation/figures/reversal.png",
+            REVERSAL_PNG.to_vec(),
+            0o644,
+        ),
+        (
+            "documentation/figures/rattle.png",
+            RATTLE_PNG.to_vec(),
             0o644,
         ),
         ("documentation/model.md", text(MODEL_MD), 0o644),
