@@ -249,12 +249,6 @@ def test_rattle_hits_both_flanks_and_counts_the_impacts(pkg):
     assert 200 < imp[-1] / t_sim < 1000, imp[-1] / t_sim
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "an onset located at the end of a retaken step that is not yet across (phi = -0.0 there) "
-    "is left to the next step, whose start phi from the dense output rounds to +2e-19: no "
-    "sign change, not counted (src/sim/contact_events.rs, contact_crossings uses "
-    "dense_output(t_prev), not the step's exact start state; seen so at 60.39 ms in the same "
-    "run through the Rust API); here the coast onset in (80.0, 80.1] ms"))
 def test_rattle_counts_each_onset_in_its_interval(pkg):
     """Every communication interval at whose end the flanks touch and at whose start they
     did not raises `impacts` by at least 1 (the onset is in that interval)."""

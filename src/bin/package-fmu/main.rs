@@ -46,6 +46,8 @@ const SKETCH_SVG: &str = include_str!("../../../docs/figures/geared_rotor.svg");
 // reversal and rattle (elastic teeth)").
 const REVERSAL_PNG: &[u8] = include_bytes!("../../../docs/figures/reversal.png");
 const RATTLE_PNG: &[u8] = include_bytes!("../../../docs/figures/rattle.png");
+// The dynamic factor study with and without backlash (README "Dynamic factor").
+const DYNAMIC_FACTOR_PNG: &[u8] = include_bytes!("../../../docs/figures/dynamic_factor.png");
 const LICENSE: &str = include_str!("../../../LICENSE");
 const RADAU5_REFERENCE_MD: &str = include_str!("../../../data/radau5/reference.md");
 const REF_IN: &str = include_str!("../../../data/reference_run/GearedRotor_in.csv");
@@ -129,6 +131,11 @@ fn run() -> Result<(PathBuf, PathBuf), String> {
         (
             "documentation/figures/rattle.png",
             RATTLE_PNG.to_vec(),
+            0o644,
+        ),
+        (
+            "documentation/figures/dynamic_factor.png",
+            DYNAMIC_FACTOR_PNG.to_vec(),
             0o644,
         ),
         ("documentation/model.md", text(MODEL_MD), 0o644),
