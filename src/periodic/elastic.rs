@@ -185,7 +185,9 @@ pub fn lift_elastic_with(
     y[idx::Q + 6] = z[6];
     let g = model.geometry();
     y[idx::V + 6] = (z[13] + g.rb1 * y[idx::OMEGA1]) / g.rb2;
-    y[idx::LAMBDA] = model.elastic_contact_at(t, &y).map_or(0.0, |c| c.energy);
+    // The spring work slot starts as the springs' energy (drive and coast flanks).
+    y[idx::LAMBDA] = model.elastic_contact_at(t, &y).map_or(0.0, |c| c.energy)
+        + model.coast_contact_at(t, &y).map_or(0.0, |c| c.energy);
     Ok(y)
 }
 

@@ -210,6 +210,9 @@ impl GearedRotor {
     pub fn set_mu(&mut self, mu: f64) -> Result<(), ParamError> {
         check_mu(mu)?;
         self.params.mu = mu;
+        if let Some(c) = self.coast.as_mut() {
+            c.set_mu(mu)?;
+        }
         if !self.stick_possible() {
             // No friction left to hold a line (law 1 with mu = 0): no stick, no release.
             self.set_stick(false, 0.0);
@@ -755,8 +758,10 @@ impl GearedRotor {
         let gv: f64 = grow.iter().zip(ic.u_dot.iter()).map(|(a, b)| a * b).sum();
         y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
         y[idx::LAMBDA] = if self.elastic.is_some() {
-            // The work stored in the mesh spring starts as its energy k delta_0^2 / 2.
+            // The work stored in the mesh springs starts as their energy k delta_0^2 / 2
+            // (drive and coast flanks).
             self.elastic_contact(&y, &m).energy
+                + self.coast_contact_at(t, &y).map_or(0.0, |c| c.energy)
         } else {
             self.consistent_lambda(t, &y)?
         };
@@ -825,10 +830,15 @@ impl GearedRotor {
             let u1 = Vector3::new(u[0], u[1], u[2]);
             let u2 = Vector3::new(u[3], u[4], u[5]);
             let m = g.mesh(&u1, &u2).map_err(|e| mesh_err(t, e))?;
-            let grow = g.constraint_row(&m);
+            // A reversed load with coast flanks (§3.6): the coast force |lam| along its own
+            // row (its radial part is the opposite of the drive row's).
+            let (grow, f) = match (lam < 0.0).then(|| self.coast_row(t, &u)).transpose()? {
+                Some(Some(row)) => (row, -lam),
+                _ => (g.constraint_row(&m), lam),
+            };
             let mut change: f64 = 0.0;
             for i in 0..6 {
-                let load = lam * grow[i];
+                let load = f * grow[i];
                 let ui = if self.stiff[i] > 0.0 {
                     load / self.stiff[i]
                 } else if load == 0.0 {

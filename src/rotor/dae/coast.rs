@@ -77,7 +77,36 @@ impl CoastFlank {
     }
 }
 
+impl CoastFlank {
+    /// Changes the friction coefficient of the coast side with the drive side's (tunable
+    /// `mu`).
+    pub(crate) fn set_mu(&mut self, mu: f64) -> Result<(), crate::parameter::ParamError> {
+        self.mirror.set_mu(mu)
+    }
+}
+
 impl GearedRotor {
+    /// The generalised direction of the coast force at the centre displacements `u` (real
+    /// coordinates, order of q): `S G'` of the mirrored pair, the force on the bodies per
+    /// newton of `Fn_coast` (`model.md` (3.24)).
+    ///
+    /// # Errors
+    /// The mirrored mesh cannot be evaluated.
+    pub(crate) fn coast_row(&self, t: f64, u: &[f64; 6]) -> Result<Option<[f64; 7]>, ModelError> {
+        let Some(coast) = self.coast.as_ref() else {
+            return Ok(None);
+        };
+        let mut z = SVector::<f64, NY>::zeros();
+        z.fixed_rows_mut::<6>(0).copy_from_slice(u);
+        let z = mirror_state(&z);
+        let m = coast.mirror.mesh(t, &z)?;
+        let mut row = coast.mirror.geom.constraint_row(&m);
+        for i in [1, 4, 6] {
+            row[i] = -row[i];
+        }
+        Ok(Some(row))
+    }
+
     /// The coast gap offset g_c0 of (3.26) at the model's drive offset g0.
     fn coast_offset(&self) -> f64 {
         self.geom.coast_gap_offset(self.g0)
@@ -178,10 +207,15 @@ impl GearedRotor {
         }
         let mut z = z0;
         z[idx::LAMBDA] = c.fn_;
-        let res = coast
-            .mirror
-            .friction(t, &z, &mz, c.fn_, Asker::Outputs)
-            .map(|(s, mu)| (mz, s, mu));
+        let res = match coast.mirror.friction(t, &z, &mz, c.fn_, Asker::Outputs) {
+            Ok((s, mu)) => Ok((mz, s, mu)),
+            // Overlap but no coast line active (absurd axial offsets): no force, and the
+            // outputs without coast friction rather than NaN, as on the drive side.
+            Err(ModelError::NoContact { .. }) if c.fn_ == 0.0 => {
+                Ok((mz, crate::gear::FrictionSums::default(), 0.0))
+            }
+            Err(e) => Err(e),
+        };
         let om = coast.mirror.outputs_with(t, &z, res);
         let j1_dot = self.params.rotor1.j * y[idx::OMEGA1_DOT];
         // The mirrored T1 holds J1 omega1' of the mirrored (negated) acceleration.
