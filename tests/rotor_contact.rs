@@ -166,7 +166,9 @@ fn elastic_contact_answers_with_the_force_of_the_flanks() {
     // The drive flanks push: their event function is positive.
     let ev = c.event_functions(t, &y).unwrap();
     assert!(ev[0] > 0.0, "{ev:?}");
-    // No multiplier: the restart state is y; never a lift-off, whatever the last slot.
+    // No multiplier: the output and the restart state are y; never a lift-off, whatever
+    // the last slot.
+    assert_eq!(c.output_state(t, &y), y);
     assert_eq!(c.consistent_state(t, &y).unwrap(), y);
     let mut neg = y;
     neg[idx::LAMBDA] = -1.0;
