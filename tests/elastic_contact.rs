@@ -373,3 +373,39 @@ fn real_time_mode_runs_the_elastic_contact() {
     );
     assert!(dfn < 1e-3 && dte < 1e-9, "{dfn:e} {dte:e}");
 }
+
+/// The output derivatives of the elastic contact keep the last slot of y, the work stored
+/// in the mesh spring (no multiplier to project): the derivative of `w_mesh_stiffness`
+/// agrees with its difference quotient over a short doStep, and the outputs either side
+/// of the central difference are those of the current state (the projection that the
+/// rigid multiplier gets once wrote Fn into the slot: w = e_mesh_spring - Fn there).
+#[test]
+fn output_derivatives_keep_the_stored_spring_work() {
+    let settings = SolverSettings {
+        rtol: 1e-8,
+        h_max: 1e-4,
+    };
+    let mut s = sim(elastic(Params::default()), settings, OMEGA1, 100.0);
+    let h = 1e-4;
+    for k in 0..20 {
+        s.do_step(k as f64 * h, h).unwrap();
+    }
+    let t = s.time();
+    let w0 = s.outputs().w_mesh_stiffness;
+    let (om, op, delta) = s.outputs_for_derivative();
+    let d = (op.w_mesh_stiffness - om.w_mesh_stiffness) / (2.0 * delta);
+    assert!(
+        (om.w_mesh_stiffness - w0).abs() < 1e-6 && (op.w_mesh_stiffness - w0).abs() < 1e-6,
+        "{} {} {w0}",
+        om.w_mesh_stiffness,
+        op.w_mesh_stiffness
+    );
+    let dt = 1e-7;
+    s.do_step(t, dt).unwrap();
+    let fd = (s.outputs().w_mesh_stiffness - w0) / dt;
+    println!("d w_mesh_stiffness / dt: {d:.6e} W, difference quotient {fd:.6e} W");
+    assert!(
+        (d - fd).abs() <= 1e-2 * fd.abs().max(1e-3),
+        "{d:e} vs {fd:e}"
+    );
+}

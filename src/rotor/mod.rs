@@ -5,6 +5,7 @@
 // `!(a > b)` is used on purpose throughout: it also rejects NaN, which `a <= b` would let pass.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod contact;
 mod dae;
 pub mod param_table;
 pub(crate) mod params;
@@ -12,6 +13,7 @@ mod problem;
 mod scales;
 
 pub use crate::gear::FrictionLaw;
+pub use contact::{Contact, LastSlot};
 pub use dae::{
     ElasticContact, ElasticMesh, GearedRotor, InitialConditions, RELEASE_BAND, STICK_RELAXATION,
 };

@@ -1,6 +1,7 @@
 //! Contact onset and separation of the elastic flanks (docs/model.md §3.6, docs/fmu.md
 //! "Contact events"): state events where the force of the drive or the coast flanks sets
-//! in or falls to zero, the sign changes of `GearedRotor::flank_event_functions`. There f
+//! in or falls to zero, the sign changes of the contact's event functions
+//! (`Contact::event_functions`; rigid teeth have none). There f
 //! has a jump (the mesh damping's force `d_l l delta'` sets in at an onset) or a kink (the
 //! force reaches 0 where the damping would pull, just before the flanks part); a step
 //! across it would smear the impact over the step, so the stepper lands on it: after each accepted step the approaches at both ends are compared,
@@ -86,7 +87,8 @@ impl Simulation {
             || self
                 .problem
                 .model
-                .flank_event_functions(t, self.solver.y())
+                .contact()
+                .event_functions(t, self.solver.y())
                 .is_some_and(|e| (e[k] > 0.0) == ev.onset);
         if !across {
             return Ok(());
@@ -106,8 +108,8 @@ impl Simulation {
     /// for rigid teeth.
     fn contact_crossings(&self) -> [Option<ContactEvent>; 2] {
         let mut out = [None, None];
-        let model = &self.problem.model;
-        if !model.is_elastic() {
+        let contact = self.problem.model.contact();
+        if !contact.has_contact_events() {
             return out;
         }
         let (tp, tn) = (self.solver.t_prev(), self.solver.t());
@@ -119,8 +121,8 @@ impl Simulation {
         // polynomial's value there may round to the other side.
         let (y_p, y_n) = (self.solver.y_prev(), self.solver.y());
         let (Some(e_n), Some(e_p)) = (
-            model.flank_event_functions(tn, y_n),
-            model.flank_event_functions(tp, y_p),
+            contact.event_functions(tn, y_n),
+            contact.event_functions(tp, y_p),
         ) else {
             return out;
         };
@@ -136,7 +138,7 @@ impl Simulation {
             let g = |s: f64| {
                 let mut z = SVector::<f64, NY>::zeros();
                 solver.dense_output(s, &mut z);
-                let d = model.flank_event_functions(s, &z).map_or(0.0, |e| e[k]);
+                let d = contact.event_functions(s, &z).map_or(0.0, |e| e[k]);
                 if onset && d == 0.0 {
                     // delta = 0 is still apart: the onset is where delta > 0.
                     f64::MIN_POSITIVE

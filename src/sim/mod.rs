@@ -167,8 +167,9 @@ impl Simulation {
             settings.options_for(problem.model.scales(), problem.model.params().tooth_contact);
         let solver =
             Radau5::new(&mut problem, options, t_start, y0).map_err(|e| solver_err(e, t_start))?;
-        let contact_lost = y0[idx::LAMBDA] < 0.0;
-        let validity = Monitor::new(t_start, y0[idx::LAMBDA], y0[idx::OMEGA1]);
+        // The start state's own force decides (it is consistent: model.md §7).
+        let contact_lost = problem.model.contact().stepper_lift_off(&y0);
+        let validity = Monitor::new(t_start, contact_lost, y0[idx::OMEGA1]);
         Ok(Simulation {
             problem,
             solver,
@@ -271,20 +272,17 @@ impl Simulation {
 
     /// Where a doStep whose right-hand side changed at the FMU time t restarts from (both
     /// modes): the stepper's state there, a look-ahead step retaken to end on t with the
-    /// old function (`sync`), and lambda from the hidden constraint for the new inputs and
-    /// tunables (lambda is algebraic: a new d_phi, mu or T_load moves it at once; model.md
-    /// §7).
+    /// old function (`sync`), made consistent by the contact for the new inputs and
+    /// tunables (rigid teeth: lambda from the hidden constraint, as lambda is algebraic and
+    /// a new d_phi, mu or T_load moves it at once; model.md §7; `Contact::consistent_state`).
     fn restart_state(&mut self, t: f64) -> Result<SVector<f64, NY>, SimError> {
         self.sync()?;
-        let mut y = *self.solver.y();
-        if !self.problem.model.is_elastic() {
-            y[idx::LAMBDA] = self
-                .problem
-                .model
-                .consistent_lambda(t, &y)
-                .map_err(SimError::Model)?;
-        }
-        Ok(y)
+        let y = *self.solver.y();
+        self.problem
+            .model
+            .contact()
+            .consistent_state(t, &y)
+            .map_err(SimError::Model)
     }
 
     /// Time of the last accepted step (after a failed `do_step`: how far it got).
@@ -319,7 +317,8 @@ impl Simulation {
         &self.y_comm
     }
 
-    /// Whether lambda < 0 (tooth lift-off) at the current time.
+    /// Whether the normal force is negative (tooth lift-off, rigid teeth only:
+    /// `Contact::lifted_off`) at the current time.
     pub fn contact_lost(&self) -> bool {
         self.contact_lost
     }

@@ -2,7 +2,7 @@
 //! derivatives from the dense output.
 
 use super::Simulation;
-use crate::rotor::{idx, Outputs, NY};
+use crate::rotor::{Outputs, NY};
 use nalgebra::SVector;
 
 /// Relative width of the central difference on the dense output used for output
@@ -21,8 +21,10 @@ impl Simulation {
         o
     }
 
-    /// The state for the outputs: y with lambda replaced by the value the hidden constraint
-    /// gives for the differential states (model.md §7, `GearedRotor::consistent_lambda`).
+    /// The state for the outputs, as the contact gives it (`Contact::output_state`): for
+    /// rigid teeth y with lambda replaced by the value the hidden constraint gives for the
+    /// differential states (model.md §7, `GearedRotor::consistent_lambda`); for elastic
+    /// teeth y itself.
     ///
     /// Why: lambda is an index-2 variable; RADAU5 controls its error only scaled by h, and
     /// the step that lands on a communication point is clipped and may be very short, so the
@@ -30,15 +32,12 @@ impl Simulation {
     /// static equilibrium with 10 ms communication steps: spikes of +-8.5e-4 while the
     /// consistent value is within 1e-8). The consistent value depends only on q, v and the
     /// filter state, which are accurate to the tolerance. Falls back to the stepper's
-    /// lambda where the model cannot decide (friction-induced ambiguity).
+    /// lambda where the model cannot decide (friction-induced ambiguity). The elastic
+    /// contact has no multiplier: its last slot, the work stored in the mesh springs, is a
+    /// differential state (writing Fn there, as before this seam, made the output
+    /// derivative of `w_mesh_stiffness` that of `e_mesh_spring - Fn`).
     pub fn output_state(&self, t: f64, y: &SVector<f64, NY>) -> SVector<f64, NY> {
-        let mut z = *y;
-        if let Ok(l) = self.problem.model.consistent_lambda(t, y) {
-            if l.is_finite() {
-                z[idx::LAMBDA] = l;
-            }
-        }
-        z
+        self.problem.model.contact().output_state(t, y)
     }
 
     /// Outputs at `time() - delta` and `time() + delta` on the collocation polynomial of the
@@ -58,7 +57,8 @@ impl Simulation {
             self.solver.dense_output(t + delta, &mut yp);
         } else {
             delta = 1e-9;
-            // lambda consistent with the current inputs and tunables: it enters M y' = f.
+            // The contact's state for the current inputs and tunables (rigid: lambda
+            // consistent with them, it enters M y' = f).
             let y = self.output_state(t, &self.y_comm);
             let mut f = SVector::<f64, NY>::zeros();
             let m = self.problem.model.mass();

@@ -162,7 +162,7 @@ impl Simulation {
                 .solver
                 .fixed_step(&mut self.problem, h, tk, NEWTON_ITERATIONS);
             if matches!(r, Err(crate::radau5::Error::FixedStepNewton { .. }))
-                && self.problem.model.is_elastic()
+                && self.problem.model.contact().has_contact_events()
             {
                 // An elastic flank set in or let go inside the step: the contact stiffness
                 // in J appeared or vanished. Once: a new J and LU pair here, the step again

@@ -27,7 +27,8 @@ pub fn comm_tolerance(t: f64, h: f64) -> f64 {
 pub struct StepReport {
     /// RADAU5 counters of this interval only.
     pub stats: Statistics,
-    /// How often `contact_lost` (lambda < 0) changed at internal steps.
+    /// How often `contact_lost` (lift-off, a negative normal force) changed at internal
+    /// steps.
     pub contact_changes: u32,
     /// Time of the first change in this interval (NaN if none).
     pub first_change_time: f64,
@@ -212,8 +213,7 @@ impl Simulation {
                     return Err(self.stop_at_last_step(t_end, solver_err(e, t_before)));
                 }
                 Ok(tn) if tn <= t_end => {
-                    // Cheap test on the stepper's lambda; a change of sign is confirmed with
-                    // the consistent lambda (see `output_state`), as the outputs report it.
+                    // Lift-off as the contact decides it (`Contact::lifted_off`).
                     let y = *self.solver.y();
                     self.track_contact(tn, &y, &mut report);
                     self.check_validity(tn, &y, &mut report)?;
@@ -250,14 +250,16 @@ impl Simulation {
         Ok(report)
     }
 
-    /// Updates `contact_lost` (lambda < 0) at a state on the trajectory and counts a change
-    /// in the report. The stepper's lambda decides cheaply; a change is confirmed with the
-    /// consistent lambda (see `output_state`), as the outputs report it.
+    /// Updates `contact_lost` (lift-off: a negative normal force) at a state on the
+    /// trajectory and counts a change in the report. The contact decides
+    /// (`Contact::lifted_off`: the stepper's lambda cheaply, a change confirmed with the
+    /// consistent force, as the outputs report it; never for elastic teeth).
     pub(super) fn track_contact(&mut self, t: f64, y: &SVector<f64, NY>, report: &mut StepReport) {
-        let mut lost = y[idx::LAMBDA] < 0.0;
-        if lost != self.contact_lost {
-            lost = self.output_state(t, y)[idx::LAMBDA] < 0.0;
-        }
+        let lost = self
+            .problem
+            .model
+            .contact()
+            .lifted_off(t, y, self.contact_lost);
         if lost != self.contact_lost {
             if report.contact_changes == 0 {
                 report.first_change_time = self.locate_contact_change(t, y, lost);

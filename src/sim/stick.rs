@@ -212,8 +212,8 @@ impl Simulation {
         };
         model.set_stick(on, release);
         let mut y = *self.solver.y();
-        if let Ok(l) = model.consistent_lambda(t, &y) {
-            y[idx::LAMBDA] = l;
+        if let Ok(z) = model.contact().consistent_state(t, &y) {
+            y = z;
         }
         self.solver.restart(&mut self.problem, y, None)
     }

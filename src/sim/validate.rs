@@ -127,7 +127,7 @@ impl SimState {
             }
         }
         let (t, y) = (self.solver.t(), self.solver.y());
-        if self.model.is_elastic() {
+        if !self.model.contact().has_multiplier() {
             // No constraint with the elastic contact (model.md §3.5): the model must only
             // evaluate the state.
             let mut model = self.model.clone();
@@ -155,7 +155,9 @@ impl SimState {
         Ok(())
     }
 
-    /// `G(q) v - r_b1 cos(beta_b) omega1` at (t, y) (the DAE's last row).
+    /// `G(q) v - r_b1 cos(beta_b) omega1` at (t, y) (the DAE's last row). Rigid teeth only:
+    /// this is the algebra of their index-2 DAE, whose constraint row is the row of the
+    /// multiplier, `idx::LAMBDA`, in f.
     fn constraint_residual(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, SimError> {
         let mut model = self.model.clone();
         let mut f = SVector::<f64, NY>::zeros();

@@ -134,9 +134,9 @@ pub struct Monitor {
 }
 
 impl Monitor {
-    /// The monitor for a start state (conditions that already hold are pending).
-    pub(super) fn new(t: f64, lambda: f64, omega1: f64) -> Self {
-        let lift_off = lambda < 0.0;
+    /// The monitor for a start state (conditions that already hold are pending): whether
+    /// the flanks have lifted off there, and the filtered drive speed.
+    pub(super) fn new(t: f64, lift_off: bool, omega1: f64) -> Self {
         let reversed = !(omega1 > 0.0);
         Monitor {
             lift_off,
@@ -231,7 +231,7 @@ impl Simulation {
     /// with 0 counted as outside).
     fn indicator(&self, kind: ViolationKind, t: f64, y: &SVector<f64, NY>) -> f64 {
         match kind {
-            ViolationKind::LiftOff => self.output_state(t, y)[idx::LAMBDA],
+            ViolationKind::LiftOff => self.problem.model.contact().normal_force(t, y),
             ViolationKind::DriveReversal => {
                 let w = y[idx::OMEGA1];
                 if w > 0.0 {
@@ -244,8 +244,8 @@ impl Simulation {
         }
     }
 
-    /// The instant at which the sign of the consistent lambda changed to `lost` (lambda < 0)
-    /// within the last step, located on its dense output as a lift-off is; `th` (the state
+    /// The instant at which the sign of the consistent normal force (lambda for rigid
+    /// teeth, `Contact::normal_force`) changed to `lost` (< 0) within the last step, located on its dense output as a lift-off is; `th` (the state
     /// that revealed it) where there is no polynomial to search (before the first step).
     pub(super) fn locate_contact_change(&self, th: f64, y: &SVector<f64, NY>, lost: bool) -> f64 {
         let lo = self.solver.t_prev().max(self.t_comm);
@@ -264,13 +264,14 @@ impl Simulation {
             }
         };
         let solver: &Radau5<NY> = &self.solver;
+        let contact = self.problem.model.contact();
         let mut ys = SVector::<f64, NY>::zeros();
         let mut g = |s: f64| {
             solver.dense_output(s, &mut ys);
-            ind(self.output_state(s, &ys)[idx::LAMBDA])
+            ind(contact.normal_force(s, &ys))
         };
         let ga = g(lo);
-        let gb = ind(self.output_state(th, y)[idx::LAMBDA]);
+        let gb = ind(contact.normal_force(th, y));
         if ga < 0.0 {
             // Already changed at the start of the search (e.g. an input set there).
             return lo;
@@ -302,7 +303,7 @@ impl Simulation {
                 kind: ViolationKind::LiftOff,
                 t,
                 t_seen: t,
-                value: self.output_state(t, &y)[idx::LAMBDA],
+                value: self.problem.model.contact().normal_force(t, &y),
             });
         }
         self.validity.pending_lift_off = false;
@@ -321,12 +322,13 @@ impl Simulation {
     ) -> Result<(), SimError> {
         let was = [self.validity.reversed, self.validity.lift_off];
         let kinds = [ViolationKind::DriveReversal, ViolationKind::LiftOff];
-        // Cheap decisions first (the stepper's lambda); a change of the lift-off flag is
-        // confirmed with the consistent lambda.
-        let mut now = [!(y[idx::OMEGA1] > 0.0), y[idx::LAMBDA] < 0.0];
-        if now[1] != was[1] {
-            now[1] = self.indicator(ViolationKind::LiftOff, th, y) < 0.0;
-        }
+        // Cheap decisions first; lift-off as the contact decides it (`Contact::lifted_off`:
+        // the stepper's lambda, a change confirmed with the consistent force; never for
+        // elastic teeth).
+        let now = [
+            !(y[idx::OMEGA1] > 0.0),
+            self.problem.model.contact().lifted_off(th, y, was[1]),
+        ];
         let lo = self.validity.t_checked.max(self.solver.t_prev());
         let mut found = [None, None];
         for k in 0..2 {
@@ -432,9 +434,9 @@ mod tests {
             assert_eq!(m.bits(), b);
             assert_eq!(m.t_checked, 1.5);
         }
-        let m = Monitor::new(0.0, -1.0, 0.0);
+        let m = Monitor::new(0.0, true, 0.0);
         assert!(m.lift_off && m.reversed && m.pending_lift_off && m.pending_reversal);
-        let m = Monitor::new(0.0, 1.0, f64::NAN);
+        let m = Monitor::new(0.0, false, f64::NAN);
         assert!(!m.lift_off && m.reversed, "NaN speed counts as outside");
     }
 }

@@ -1,0 +1,169 @@
+//! The tooth contact as the rest of the code sees it (issue 27, item 8: "a contact model
+//! owns its state layout, scales, consistent initial values, event functions and what
+//! counts as a validity violation; the rest asks it").
+//!
+//! The two contacts of [`ToothContact`] differ in exactly the questions a simulation has to
+//! ask about the mesh, and [`Contact`] answers them in physical terms, dispatching on the
+//! model's contact kind:
+//! - rigid teeth (`model.md` §3.3, §7): an index-2 constraint; the last slot of y is its
+//!   Lagrange multiplier lambda, the normal force. The stepper controls lambda's error only
+//!   scaled by h, so the force that counts is lambda projected on the hidden constraint. A
+//!   negative force (the flanks pulled together) is outside the model's validity: lift-off.
+//!   The contact never sets in or lets go: no contact events;
+//! - elastic teeth (`model.md` §3.5, §3.6): no constraint; the last slot is the work stored
+//!   in the mesh springs (a quadrature, a differential state like any other), and the
+//!   normal force `Fn = l max(0, c_l delta + d_l delta')` is a function of the state,
+//!   never negative: flanks that part are free flight within the model, not a violation.
+//!   The onsets and separations of the drive and the coast flanks are state events.
+//!
+//! This first step keeps the layout of y (one shared last slot, `idx::LAMBDA`) and the
+//! scales where they are (`GearedRotor::scales`, `rotor::dae_structure`); the simulation
+//! layer (`sim`) asks here instead of reading the last slot or branching on the contact.
+
+use super::{idx, GearedRotor, ModelError, ToothContact, NY};
+use nalgebra::SVector;
+
+/// What the last slot of y (`idx::LAMBDA`) holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LastSlot {
+    /// Rigid teeth: the Lagrange multiplier lambda of the contact constraint, in N (an
+    /// algebraic, index-2 component: zero row of the mass matrix).
+    Multiplier,
+    /// Elastic teeth: the work stored in the mesh springs, `E_s' = k delta delta'`, in J (a
+    /// quadrature).
+    StoredSpringWork,
+}
+
+/// The tooth contact of a [`GearedRotor`], asked in physical terms (see the module docs).
+/// A view: cheap to make, holds nothing of its own.
+#[derive(Debug, Clone, Copy)]
+pub struct Contact<'a> {
+    model: &'a GearedRotor,
+}
+
+impl GearedRotor {
+    /// The tooth contact of this model, to be asked about the normal force, the contact
+    /// events and lift-off ([`Contact`]).
+    pub fn contact(&self) -> Contact<'_> {
+        Contact { model: self }
+    }
+}
+
+impl Contact<'_> {
+    /// Which contact model (`Params::tooth_contact`).
+    pub fn kind(&self) -> ToothContact {
+        self.model.params().tooth_contact
+    }
+
+    /// What the last slot of y holds.
+    pub fn last_slot(&self) -> LastSlot {
+        match self.kind() {
+            ToothContact::Rigid => LastSlot::Multiplier,
+            ToothContact::Elastic => LastSlot::StoredSpringWork,
+        }
+    }
+
+    /// Whether the normal force is a Lagrange multiplier of a constraint (rigid teeth):
+    /// then the state must satisfy the constraint, and the stepper's value of the force is
+    /// only a first guess of the consistent one.
+    pub fn has_multiplier(&self) -> bool {
+        self.last_slot() == LastSlot::Multiplier
+    }
+
+    /// Whether the contact can leave the model's validity by lift-off: only rigid teeth,
+    /// whose single-flank constraint would pull the flanks together where real teeth part.
+    /// Elastic flanks part within the model (free flight, the coast flanks).
+    pub fn lift_off_possible(&self) -> bool {
+        self.has_multiplier()
+    }
+
+    /// Whether the contact sets in and lets go during a run, at located state events
+    /// ([`Contact::event_functions`]): the elastic flanks. Rigid teeth are always in
+    /// contact.
+    pub fn has_contact_events(&self) -> bool {
+        self.kind() == ToothContact::Elastic
+    }
+
+    /// The normal contact force of the drive flanks at (t, y), in N, as the outputs report
+    /// it (`fn_`). Rigid teeth: lambda from the hidden constraint for the differential
+    /// states of y (`GearedRotor::consistent_lambda`: the stepper's lambda can be off by
+    /// ~1e-3 relative after a short step, the consistent one is as accurate as q and v), or
+    /// the stepper's lambda where the model cannot decide (friction-induced ambiguity) or
+    /// the value is not finite. Elastic teeth: `Fn` of (3.16) from the approach of the
+    /// flanks and its rate; NaN where the mesh cannot be evaluated.
+    pub fn normal_force(&self, t: f64, y: &SVector<f64, NY>) -> f64 {
+        match self.kind() {
+            ToothContact::Rigid => match self.model.consistent_lambda(t, y) {
+                Ok(l) if l.is_finite() => l,
+                _ => y[idx::LAMBDA],
+            },
+            ToothContact::Elastic => self
+                .model
+                .elastic_contact_at(t, y)
+                .map_or(f64::NAN, |c| c.fn_),
+        }
+    }
+
+    /// The state the outputs are evaluated at: rigid teeth, y with lambda replaced by
+    /// [`Contact::normal_force`] (model.md §7); elastic teeth, y itself (the stored work is
+    /// a differential state, accurate to the tolerance, and the outputs take Fn from the
+    /// state).
+    pub fn output_state(&self, t: f64, y: &SVector<f64, NY>) -> SVector<f64, NY> {
+        let mut z = *y;
+        if self.has_multiplier() {
+            z[idx::LAMBDA] = self.normal_force(t, y);
+        }
+        z
+    }
+
+    /// y with its last slot consistent with the rest, where the stepper restarts (new
+    /// inputs or tunables, a new stick mode): rigid teeth, lambda from the hidden constraint
+    /// (lambda is algebraic: a new d_phi, mu, T_load or stick mode moves it at once);
+    /// elastic teeth, y unchanged (the stored work is a state with a history).
+    ///
+    /// # Errors
+    /// Rigid teeth: the mesh cannot be evaluated or no consistent lambda exists
+    /// (`GearedRotor::consistent_lambda`).
+    pub fn consistent_state(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+    ) -> Result<SVector<f64, NY>, ModelError> {
+        let mut z = *y;
+        if self.has_multiplier() {
+            z[idx::LAMBDA] = self.model.consistent_lambda(t, y)?;
+        }
+        Ok(z)
+    }
+
+    /// The cheap lift-off test on the stepper's own state: the multiplier is negative
+    /// (rigid teeth); never for elastic teeth. A change it signals is to be confirmed with
+    /// [`Contact::normal_force`] ([`Contact::lifted_off`]).
+    pub fn stepper_lift_off(&self, y: &SVector<f64, NY>) -> bool {
+        self.lift_off_possible() && y[idx::LAMBDA] < 0.0
+    }
+
+    /// Whether the flanks have lifted off at (t, y), given whether they had at the last
+    /// check (`was`): the stepper's multiplier decides cheaply; a change is confirmed with
+    /// the consistent normal force, as the outputs report it (rigid teeth). Never for
+    /// elastic teeth.
+    pub fn lifted_off(&self, t: f64, y: &SVector<f64, NY>, was: bool) -> bool {
+        let lost = self.stepper_lift_off(y);
+        if lost != was && self.lift_off_possible() {
+            return self.normal_force(t, y) < 0.0;
+        }
+        lost
+    }
+
+    /// The contact event functions of the drive and the coast flanks,
+    /// `phi = min(delta, delta + (d_l / c_l) delta')` in m (`model.md` (3.28)): positive
+    /// exactly where the flanks push, so their sign changes are the onsets and separations
+    /// (`GearedRotor::flank_event_functions`). None for rigid teeth (no events) or where the
+    /// mesh cannot be evaluated; the coast entry is `-inf` without coast flanks.
+    pub fn event_functions(&self, t: f64, y: &SVector<f64, NY>) -> Option<[f64; 2]> {
+        if !self.has_contact_events() {
+            return None;
+        }
+        self.model.flank_event_functions(t, y)
+    }
+}
