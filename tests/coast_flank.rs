@@ -382,3 +382,140 @@ fn free_flight_needs_no_active_contact_line() {
     println!("{found} of 200 phases without an active drive line");
     assert!(found > 0);
 }
+
+/// A start with a reversed load (T_load -500 N m) from the static equilibrium: the coast
+/// flanks carry it from t = 0 - the bearings are deflected along the coast force's line
+/// (accelerations of the centres zero at the start), the stored spring work is the coast
+/// spring's energy (W_mesh_stiffness 0), and the coast force stays near its static value
+/// (within the ripple of the time-varying stiffness, as a loaded drive flank does).
+#[test]
+fn reversed_load_starts_static_on_the_coast_flanks() {
+    use geared_rotor::rotor::{idx, NY};
+    use nalgebra::SVector;
+    let (t_load, d_phi) = (-500.0, 0.05);
+    let p = elastic(Params {
+        d_phi,
+        mu: 0.0,
+        ..Params::default()
+    });
+    let g = p.validate().unwrap();
+    let mut s = sim(p, 1e-8, OMEGA1, t_load);
+    let o0 = s.outputs();
+    let mut f = SVector::<f64, NY>::zeros();
+    let mut m = s.model().clone();
+    m.rhs(0.0, s.y(), &mut f).unwrap();
+    let acc = (0..6).map(|i| f[idx::V + i].abs()).fold(0.0, f64::max);
+    let omega2 = OMEGA1 * g.rb1 / g.rb2;
+    let fc_static = (-t_load - d_phi * omega2) / (g.rb2 * g.cos_beta_b);
+    println!(
+        "reversed start: mesh_state {}, Fn_coast {:.2} N (static {fc_static:.2} N), largest \
+         force on a bearing coordinate {acc:.3e} N, W_mesh_stiffness {:.3e} J",
+        o0.mesh_state, o0.fn_coast, o0.w_mesh_stiffness
+    );
+    assert_eq!(o0.mesh_state, -1);
+    assert!((o0.fn_coast - fc_static).abs() < 1e-9 * fc_static);
+    assert!(acc < 1e-6 * fc_static, "{acc}");
+    assert!(o0.w_mesh_stiffness.abs() < 1e-12);
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for k in 0..50 {
+        s.do_step(k as f64 * 1e-4, 1e-4).unwrap();
+        let o = s.outputs();
+        assert_eq!(o.mesh_state, -1);
+        lo = lo.min(o.fn_coast);
+        hi = hi.max(o.fn_coast);
+    }
+    println!("Fn_coast over 5 ms: {lo:.1} .. {hi:.1} N");
+    assert!(hi - lo < 0.06 * fc_static, "{lo} {hi}");
+}
+
+/// A tuned mu reaches the coast flanks: f in coast contact after set_mu(0.2) on a model
+/// built with mu 0.02 equals f of a model built with 0.2 (laws 1 and 2).
+#[test]
+fn tuned_mu_reaches_the_coast_flanks() {
+    use geared_rotor::rotor::{GearedRotor, Inputs, NY};
+    use nalgebra::SVector;
+    for law in [FrictionLaw::Coulomb, FrictionLaw::RegularisedCoulomb] {
+        let build = |mu: f64| {
+            let p = elastic(Params {
+                mu,
+                friction_law: law,
+                ..Params::default()
+            });
+            let mut m = GearedRotor::new(p).unwrap();
+            m.set_inputs(Inputs {
+                omega1: OMEGA1,
+                t_load: -300.0,
+                ..Inputs::default()
+            });
+            m
+        };
+        let mut a = build(0.02);
+        let mut b = build(0.2);
+        let y = b.initialize(0.0).unwrap();
+        let _ = a.initialize(0.0).unwrap();
+        a.set_mu(0.2).unwrap();
+        assert!(b.coast_contact_at(0.0, &y).unwrap().fn_ > 0.0);
+        let (mut fa, mut fb) = (SVector::<f64, NY>::zeros(), SVector::<f64, NY>::zeros());
+        a.rhs(0.0, &y, &mut fa).unwrap();
+        b.rhs(0.0, &y, &mut fb).unwrap();
+        assert_eq!(fa, fb, "{law:?}");
+    }
+}
+
+/// The impacts do not depend on the communication step: load steps +100 -> -100 -> +100 ->
+/// -100 N m at 20, 30 and 40 ms, run with H from 0.1 to 10 ms (look-ahead past the
+/// communication points, retakes to them): the same impact count, and where a doStep lists
+/// them all (at most 8 per interval: H <= 1 ms) the same onsets and separations at the same
+/// instants to 1e-8 s (the trajectories of different step sequences differ by the
+/// integration error of rtol 1e-8: 1.2e-9 s here).
+#[test]
+fn impacts_do_not_depend_on_the_communication_step() {
+    let p = elastic(Params {
+        d_phi: 0.05,
+        ..Params::default()
+    });
+    let load = |t: f64| match t {
+        t if t < 0.02 => 100.0,
+        t if t < 0.03 => -100.0,
+        t if t < 0.04 => 100.0,
+        _ => -100.0,
+    };
+    let mut runs = Vec::new();
+    for h in [1e-4, 2.5e-4, 1e-3, 5e-3, 1e-2] {
+        let mut s = sim(p, 1e-8, OMEGA1, 100.0);
+        let n = (0.06f64 / h).round() as usize;
+        let (mut events, mut dropped) = (Vec::new(), 0);
+        for k in 0..n {
+            let t = k as f64 * h;
+            s.set_input(Input::TLoad, load(t + 1e-12)).unwrap();
+            let rep = s.do_step(t, h).unwrap();
+            dropped += rep.contact_events_dropped;
+            events.extend(rep.contact_events.iter().flatten().copied());
+        }
+        println!(
+            "H {h}: {} events listed, {dropped} more counted, impacts {}",
+            events.len(),
+            s.impacts()
+        );
+        if dropped == 0 {
+            assert_eq!(
+                s.impacts() as usize,
+                events.iter().filter(|e| e.onset).count()
+            );
+        }
+        runs.push((s.impacts(), dropped, events));
+    }
+    assert!(
+        runs.iter().all(|r| r.0 == runs[0].0),
+        "impact counts differ"
+    );
+    let listed: Vec<_> = runs.iter().filter(|r| r.1 == 0).map(|r| &r.2).collect();
+    assert!(listed.len() >= 3);
+    for r in &listed[1..] {
+        assert_eq!(r.len(), listed[0].len());
+        for (a, b) in r.iter().zip(listed[0]) {
+            assert_eq!((a.flank, a.onset), (b.flank, b.onset));
+            assert!((a.t - b.t).abs() < 1e-8, "{a:?} vs {b:?}");
+        }
+    }
+}

@@ -28,6 +28,11 @@ pub enum Flank {
     Coast,
 }
 
+/// 0 for the drive, 1 for the coast flanks (the order of the event functions).
+fn flank_index(f: Flank) -> usize {
+    usize::from(f == Flank::Coast)
+}
+
 /// A located contact onset or separation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactEvent {
@@ -44,63 +49,92 @@ impl Simulation {
     /// Contact onsets and separations in the step just accepted (the stepper at its end);
     /// `t_end` is the FMU time this doStep steps to. Lands on the first one: retakes the
     /// step to end there (or, on the look-ahead part past `t_end`, on `t_end`: the next
-    /// doStep meets it again) and renews f there.
+    /// doStep meets it again) and renews f there. A crossing at the very start of the step
+    /// (a landing that fell a hair short of it) keeps the step and counts at once; another
+    /// crossing later in the same step is then landed on as usual.
     pub(super) fn contact_events(
         &mut self,
         t_end: f64,
         report: &mut StepReport,
     ) -> Result<(), SimError> {
-        let [a, b] = self.contact_crossings();
-        let first = match (a, b) {
-            (Some(a), Some(b)) => Some(if b.t < a.t { b } else { a }),
-            (a, b) => a.or(b),
-        };
-        let Some(ev) = first else {
-            return Ok(());
-        };
-        let (tp, tn) = (self.solver.t_prev(), self.solver.t());
-        if ev.t > t_end {
-            // On the look-ahead part: end this doStep on t_end; the next meets it again.
-            return self.retake_to(t_end);
-        }
-        // A crossing at the very start of the step (the landing of the last step fell a
-        // hair short of it): the step is kept, as a retake would be a sliver; the event
-        // counts at its located instant and f is renewed at the step's end.
-        let sliver = (ev.t - tp) <= (1e-9 * (tn - tp)).max(4.0 * f64::EPSILON * tn.abs());
-        if !sliver {
+        // Flanks whose crossing at the step's start was counted already (a retake to t_end
+        // keeps that start, and its crossing, in the retaken step).
+        let mut counted = [false; 2];
+        for pass in 0..2 {
+            let [a, b] = self.contact_crossings();
+            let skip = |e: Option<ContactEvent>| e.filter(|e| !counted[flank_index(e.flank)]);
+            let (first, second) = match (skip(a), skip(b)) {
+                (Some(a), Some(b)) if b.t < a.t => (Some(b), Some(a)),
+                (a, b) => (a.or(b), a.and(b)),
+            };
+            let Some(mut ev) = first else {
+                return Ok(());
+            };
+            let (tp, tn) = (self.solver.t_prev(), self.solver.t());
+            let sliver = |e: &ContactEvent| {
+                (e.t - tp) <= (1e-9 * (tn - tp)).max(4.0 * f64::EPSILON * tn.abs())
+            };
+            if sliver(&ev) {
+                self.count_contact(ev, report);
+                counted[flank_index(ev.flank)] = true;
+                match second {
+                    Some(s) if !sliver(&s) => ev = s,
+                    rest => {
+                        if let Some(s) = rest {
+                            self.count_contact(s, report);
+                        }
+                        return self.renew_f();
+                    }
+                }
+            }
+            if ev.t > t_end {
+                // On the look-ahead part: end this doStep on t_end; the next meets it
+                // again. The retaken step may end just across (the crossing within its
+                // local error of t_end): looked at once more.
+                self.retake_to(t_end)?;
+                if pass == 0 {
+                    continue;
+                }
+                return Ok(());
+            }
             self.retake_to(ev.t)?;
-        }
-        let y = *self.solver.y();
-        // f jumps here: a fresh f. J and the step-size history are kept (the stepper renews
-        // J when Newton slows down): rattle, 0.1 s at rtol 1e-6: 39636 f, 939 J, 4119 LU
-        // instead of 41284, 1043, 4359 with a full restart.
-        if let Err(e) = self.solver.refresh(&mut self.problem, y) {
-            let ts = self.solver.t();
-            self.restart_pending = true;
-            return Err(solver_err(e, ts));
-        }
-        // The retaken step ends within the local error of the dense output's crossing: if
-        // its end is not yet across, the next step (a sliver) crosses and reports it.
-        let k = usize::from(ev.flank == Flank::Coast);
-        let t = self.solver.t();
-        let across = sliver
-            || self
+            self.renew_f()?;
+            // The retaken step ends within the local error of the dense output's crossing:
+            // if its end is not yet across, the next step (a sliver) crosses and counts it.
+            let k = flank_index(ev.flank);
+            let t = self.solver.t();
+            let across = self
                 .problem
                 .model
                 .contact()
                 .event_functions(t, self.solver.y())
                 .is_some_and(|e| (e[k] > 0.0) == ev.onset);
-        if !across {
+            if across {
+                self.count_contact(ContactEvent { t, ..ev }, report);
+            }
             return Ok(());
         }
+        Ok(())
+    }
+
+    /// f jumps at a contact event: a fresh f where the stepper stands. J and the step-size
+    /// history are kept (the stepper renews J when Newton slows down): rattle, 0.1 s at
+    /// rtol 1e-6: 39636 f, 939 J, 4119 LU instead of 41284, 1043, 4359 with a full restart.
+    fn renew_f(&mut self) -> Result<(), SimError> {
+        let y = *self.solver.y();
+        self.solver.refresh(&mut self.problem, y).map_err(|e| {
+            let ts = self.solver.t();
+            self.restart_pending = true;
+            solver_err(e, ts)
+        })
+    }
+
+    /// Reports a contact event; an onset is an impact.
+    fn count_contact(&mut self, ev: ContactEvent, report: &mut StepReport) {
         if ev.onset {
             self.impacts += 1;
         }
-        report.note_contact(ContactEvent {
-            t: if sliver { ev.t } else { self.solver.t() },
-            ..ev
-        });
-        Ok(())
+        report.note_contact(ev);
     }
 
     /// The sign changes of the drive and the coast flanks' force functions in the step
@@ -170,10 +204,7 @@ impl Simulation {
             }
         }
         for ev in evs.into_iter().flatten() {
-            if ev.onset {
-                self.impacts += 1;
-            }
-            report.note_contact(ev);
+            self.count_contact(ev, report);
         }
     }
 }
