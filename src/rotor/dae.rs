@@ -314,12 +314,15 @@ impl GearedRotor {
         let m = self.mesh_for_f(t, y)?;
         // Elastic contact (§3.5): the normal force from the approach of the flanks; the
         // last slot of y is the work stored in the mesh spring, not a multiplier.
-        let elastic = self.elastic.is_some().then(|| self.elastic_contact(y, &m));
-        let lam = match &elastic {
-            Some(c) => c.fn_,
-            None => y[idx::LAMBDA],
+        // One contact length per f: the friction evaluation's (`elastic_friction`).
+        let (elastic, lam, sums, mu) = if self.elastic.is_some() {
+            let (c, sums, mu) = self.elastic_friction(t, y, &m)?;
+            (Some(c), c.fn_, sums, mu)
+        } else {
+            let lam = y[idx::LAMBDA];
+            let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
+            (None, lam, sums, mu)
         };
-        let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
         let fr = if elastic.is_some() {
             // No stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
             sums.resultants(mu, lam)
