@@ -68,7 +68,9 @@ impl GearedRotor {
     /// Returns the sums, their scalar coefficient and the force. No allocation.
     ///
     /// # Errors
-    /// [`ModelError::NoContact`] when l = 0 (`load` is then not called).
+    /// [`ModelError::NoContact`] when l = 0 (`load` is then not called; else it is called
+    /// once).
+    #[inline(never)]
     pub(crate) fn friction_for_load(
         &self,
         t: f64,
@@ -76,7 +78,7 @@ impl GearedRotor {
         m: &Mesh,
         asker: Asker,
         stick: bool,
-        load: impl FnOnce(f64) -> f64,
+        mut load: impl FnMut(f64) -> f64,
     ) -> Result<(FrictionSums, f64, f64), ModelError> {
         let pitch = self.pitch_line(y, stick);
         let for_outputs = asker == Asker::Outputs;
@@ -84,9 +86,6 @@ impl GearedRotor {
         let (phi1, psi0) = (y[idx::PHI1], self.params.psi0);
         let g = &self.geom;
         let law = self.params.friction_law;
-        // Called exactly once, below (before the sums for laws 4 and 5, after them else).
-        let mut load = Some(load);
-        let mut force = |l: f64| load.take().map_or(f64::NAN, |f| f(l));
         // Laws 4 and 5: the force and the load per unit length |lam| / l of the lines in
         // contact, before the sums.
         let (line, lam) = match law {
@@ -95,7 +94,7 @@ impl GearedRotor {
                 if !(l > 0.0) {
                     return Err(ModelError::NoContact { t });
                 }
-                let lam = force(l);
+                let lam = load(l);
                 let line_load = lam.abs() / l;
                 let line = if law == FrictionLaw::LocalEhl {
                     LineLaw::Ehl(EhlLine::new(
@@ -155,7 +154,7 @@ impl GearedRotor {
         let (lam, mu) = match lam {
             Some(lam) => (lam, 1.0),
             None => {
-                let lam = force(s.contact.length);
+                let lam = load(s.contact.length);
                 let mu = match law {
                     FrictionLaw::IsoMean => self.iso.mu(lam, k.omega1, k.omega2),
                     _ => self.params.mu,
