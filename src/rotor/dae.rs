@@ -337,7 +337,8 @@ impl GearedRotor {
         let t_load = self.inputs.t_load_at(t);
         let mut qf = fr.generalised();
         // The coast flanks (§3.6): their normal force and friction, zero while apart.
-        let coast = if elastic.is_some() {
+        // While the drive flanks carry the load they are apart (`coast_surely_apart`).
+        let coast = if elastic.is_some_and(|c| !self.coast_surely_apart(&c, &m)) {
             let c = self.coast_terms(t, y, &m)?;
             for (a, b) in qf.iter_mut().zip(c.q.iter()) {
                 *a += b;
@@ -383,6 +384,17 @@ impl GearedRotor {
             return Err(ModelError::NonFinite { t, what: "f" });
         }
         Ok(())
+    }
+
+    /// Whether the coast flanks are apart for certain, without evaluating their approach
+    /// (one tan less per f while the drive flanks carry the load): by (3.24) and (3.28)
+    /// the coast gap is `g_c = play(alpha) - g` with `play(alpha) = j_t + 2 R (inv alpha -
+    /// inv alpha_wt)`, so drive flanks that overlap (`delta = -cos(beta_b) g > 0`) at a
+    /// working angle `alpha >= alpha_wt` (centres not closer than a_w) leave the coast
+    /// flanks apart by more than the play j_t. Taken only with a play of at least 1 nm,
+    /// far above the rounding of either gap, so that it decides as `coast_terms` would.
+    fn coast_surely_apart(&self, c: &ElasticContact, m: &crate::gear::Mesh) -> bool {
+        c.delta > 0.0 && m.alpha >= self.geom.alpha_wt && self.geom.play() >= 1e-9
     }
 
     /// `M_ext = diag(I7, M, 1 (phi1), 1, 1 (filter), 1, 1, 1, 1 (energies), 0 (lambda))`.
