@@ -314,20 +314,15 @@ impl GearedRotor {
         let m = self.mesh_for_f(t, y)?;
         // Elastic contact (§3.5): the normal force from the approach of the flanks; the
         // last slot of y is the work stored in the mesh spring, not a multiplier.
-        // One contact length per f: the friction evaluation's (`elastic_friction`).
-        let (elastic, lam, sums, mu) = if self.elastic.is_some() {
-            let (c, sums, mu) = self.elastic_friction(t, y, &m)?;
-            (Some(c), c.fn_, sums, mu)
+        // One contact length per f: the friction evaluation's (`elastic_friction`); no
+        // stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
+        let (elastic, lam, fr) = if self.elastic.is_some() {
+            let (c, fr) = self.elastic_friction(t, y, &m)?;
+            (Some(c), c.fn_, fr)
         } else {
             let lam = y[idx::LAMBDA];
             let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
-            (None, lam, sums, mu)
-        };
-        let fr = if elastic.is_some() {
-            // No stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
-            sums.resultants(mu, lam)
-        } else {
-            self.friction_resultants(t, y, &m, &sums, mu)
+            (None, lam, self.friction_resultants(t, y, &m, &sums, mu))
         };
         let grow = g.constraint_row(&m);
         let v = idx::V;

@@ -5,7 +5,7 @@
 
 use super::friction::Asker;
 use super::GearedRotor;
-use crate::gear::{stiffness, FrictionSums, Mesh, PairGeometry};
+use crate::gear::{stiffness, Friction, Mesh, PairGeometry};
 use crate::rotor::{idx, ModelError, NY};
 use nalgebra::{SVector, Vector3};
 
@@ -118,11 +118,11 @@ impl GearedRotor {
         self.flank_contact(y, m, g0, length)
     }
 
-    /// The elastic contact at y and its friction for f (`Asker::Integrator`): the sums,
-    /// their scalar coefficient and the contact, whose length is the one the friction
-    /// evaluation has anyway (`GearedRotor::friction_for_load`; one contact summary
-    /// instead of two or three per f). The same values as
-    /// [`GearedRotor::elastic_contact`] followed by [`GearedRotor::friction`] at its Fn.
+    /// The elastic contact at y and its friction resultants at Fn for f
+    /// (`Asker::Integrator`); the contact's length is the one the friction evaluation has
+    /// anyway (`GearedRotor::friction_for_load`; one contact summary instead of two or
+    /// three per f). The same values as [`GearedRotor::elastic_contact`] followed by
+    /// [`GearedRotor::friction`] at its Fn and `FrictionSums::resultants`.
     ///
     /// # Errors
     /// [`ModelError::NoContact`] when l = 0.
@@ -131,14 +131,14 @@ impl GearedRotor {
         t: f64,
         y: &SVector<f64, NY>,
         m: &Mesh,
-    ) -> Result<(ElasticContact, FrictionSums, f64), ModelError> {
+    ) -> Result<(ElasticContact, Friction), ModelError> {
         let mut c = ElasticContact::default();
-        let (sums, mu, _) =
+        let (sums, mu, fn_) =
             self.friction_for_load(t, y, m, Asker::Integrator, self.stick, |length| {
                 c = self.flank_contact(y, m, self.g0, length);
                 c.fn_
             })?;
-        Ok((c, sums, mu))
+        Ok((c, sums.resultants(mu, fn_)))
     }
 
     /// The elastic contact at y (mesh `m`, gap offset `g0`) with its contact length given.
