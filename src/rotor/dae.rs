@@ -317,24 +317,23 @@ impl GearedRotor {
         let m = self.mesh_for_f(t, y)?;
         // Elastic contact (§3.5): the normal force from the approach of the flanks; the
         // last slot of y is the work stored in the mesh spring, not a multiplier.
-        let elastic = self.elastic.is_some().then(|| self.elastic_contact(y, &m));
-        let lam = match &elastic {
-            Some(c) => c.fn_,
-            None => y[idx::LAMBDA],
-        };
-        let fr = if elastic.is_some() {
-            // No stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
-            // Without force no friction, and no contact line needed (free flight, or a
-            // vibration that moves the centres so far that no drive line is active).
-            if lam == 0.0 {
-                crate::gear::Friction::default()
-            } else {
-                let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
-                sums.resultants(mu, lam)
-            }
+        // One contact length per f: the friction evaluation's (`elastic_friction`); no
+        // stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
+        let (elastic, lam, fr) = if self.elastic.is_some() {
+            let (c, fr) = match self.elastic_friction(t, y, &m) {
+                // No drive line active (a vibration that moves the centres far): l = 0, so
+                // Fn = l q = 0 and there is no friction to evaluate.
+                Err(ModelError::NoContact { .. }) => (
+                    self.elastic_contact(y, &m),
+                    crate::gear::Friction::default(),
+                ),
+                r => r?,
+            };
+            (Some(c), c.fn_, fr)
         } else {
+            let lam = y[idx::LAMBDA];
             let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
-            self.friction_resultants(t, y, &m, &sums, mu)
+            (None, lam, self.friction_resultants(t, y, &m, &sums, mu))
         };
         let grow = g.constraint_row(&m);
         let v = idx::V;
@@ -344,7 +343,8 @@ impl GearedRotor {
         let t_load = self.inputs.t_load_at(t);
         let mut qf = fr.generalised();
         // The coast flanks (§3.6): their normal force and friction, zero while apart.
-        let coast = if elastic.is_some() {
+        // While the drive flanks carry the load they are apart (`coast_surely_apart`).
+        let coast = if elastic.is_some_and(|c| !self.coast_surely_apart(&c, &m)) {
             let c = self.coast_terms(t, y, &m)?;
             for (a, b) in qf.iter_mut().zip(c.q.iter()) {
                 *a += b;
@@ -390,6 +390,17 @@ impl GearedRotor {
             return Err(ModelError::NonFinite { t, what: "f" });
         }
         Ok(())
+    }
+
+    /// Whether the coast flanks are apart for certain, without evaluating their approach
+    /// (one tan less per f while the drive flanks carry the load): by (3.24) and (3.28)
+    /// the coast gap is `g_c = play(alpha) - g` with `play(alpha) = j_t + 2 R (inv alpha -
+    /// inv alpha_wt)`, so drive flanks that overlap (`delta = -cos(beta_b) g > 0`) at a
+    /// working angle `alpha >= alpha_wt` (centres not closer than a_w) leave the coast
+    /// flanks apart by more than the play j_t. Taken only with a play of at least 1 nm,
+    /// far above the rounding of either gap, so that it decides as `coast_terms` would.
+    fn coast_surely_apart(&self, c: &ElasticContact, m: &crate::gear::Mesh) -> bool {
+        c.delta > 0.0 && m.alpha >= self.geom.alpha_wt && self.geom.play() >= 1e-9
     }
 
     /// `M_ext = diag(I7, M, 1 (phi1), 1, 1 (filter), 1, 1, 1, 1 (energies), 0 (lambda))`.

@@ -3,8 +3,9 @@
 //! and no multiplier: the last slot of y (the rigid model's lambda) holds the work stored
 //! in the mesh spring, `E_s' = k delta delta'`, a quadrature.
 
+use super::friction::Asker;
 use super::GearedRotor;
-use crate::gear::{stiffness, Mesh, PairGeometry};
+use crate::gear::{stiffness, Friction, Mesh, PairGeometry};
 use crate::rotor::{idx, ModelError, NY};
 use nalgebra::{SVector, Vector3};
 
@@ -104,11 +105,53 @@ impl GearedRotor {
         m: &Mesh,
         g0: f64,
     ) -> ElasticContact {
-        let Some(e) = self.elastic.as_ref() else {
+        if self.elastic.is_none() {
             return ElasticContact {
                 in_contact: true,
                 ..ElasticContact::default()
             };
+        }
+        let length = self
+            .geom
+            .contact_summary(m, y[idx::PHI1], self.params.psi0)
+            .length;
+        self.flank_contact(y, m, g0, length)
+    }
+
+    /// The elastic contact at y and its friction resultants at Fn for f
+    /// (`Asker::Integrator`); the contact's length is the one the friction evaluation has
+    /// anyway (`GearedRotor::friction_for_load`; one contact summary instead of two or
+    /// three per f). The same values as [`GearedRotor::elastic_contact`] followed by
+    /// [`GearedRotor::friction`] at its Fn and `FrictionSums::resultants`.
+    ///
+    /// # Errors
+    /// [`ModelError::NoContact`] when l = 0.
+    pub(crate) fn elastic_friction(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+    ) -> Result<(ElasticContact, Friction), ModelError> {
+        let mut c = ElasticContact::default();
+        let (sums, mu, fn_) =
+            self.friction_for_load(t, y, m, Asker::Integrator, self.stick, |length| {
+                c = self.flank_contact(y, m, self.g0, length);
+                c.fn_
+            })?;
+        Ok((c, sums.resultants(mu, fn_)))
+    }
+
+    /// The elastic contact at y (mesh `m`, gap offset `g0`) with its contact length given.
+    /// Elastic models only.
+    fn flank_contact(
+        &self,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        g0: f64,
+        length: f64,
+    ) -> ElasticContact {
+        let Some(e) = self.elastic.as_ref() else {
+            return ElasticContact::default();
         };
         let g = &self.geom;
         let grow = g.constraint_row(m);
@@ -118,7 +161,6 @@ impl GearedRotor {
         }
         let delta = -g.cos_beta_b * (g.gap_raw(m, y[idx::Q + 6]) + g0);
         let delta_dot = -(gv - g.rb1 * g.cos_beta_b * y[idx::OMEGA1]);
-        let length = g.contact_summary(m, y[idx::PHI1], self.params.psi0).length;
         let stiffness = e.c_l * length;
         let mut c = ElasticContact {
             delta,

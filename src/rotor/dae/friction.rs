@@ -56,62 +56,85 @@ impl GearedRotor {
         asker: Asker,
         stick: bool,
     ) -> Result<(FrictionSums, f64), ModelError> {
+        self.friction_for_load(t, y, m, asker, stick, |_| lam)
+            .map(|(s, mu, _)| (s, mu))
+    }
+
+    /// [`GearedRotor::friction_mode`] with the normal force a function of the contact
+    /// length l (3.12), `load(l)`, evaluated once with the l the friction evaluation has
+    /// anyway (the elastic contact, §3.5: Fn = l max(0, c_l delta + d_l delta')): for
+    /// laws 1-3 the sums do not depend on the force and carry l; laws 4 and 5 need the
+    /// line load |Fn| / l before the sums, so l comes from one contact summary there.
+    /// Returns the sums, their scalar coefficient and the force. No allocation.
+    ///
+    /// # Errors
+    /// [`ModelError::NoContact`] when l = 0 (`load` is then not called; else it is called
+    /// once).
+    #[inline(never)]
+    pub(crate) fn friction_for_load(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        asker: Asker,
+        stick: bool,
+        mut load: impl FnMut(f64) -> f64,
+    ) -> Result<(FrictionSums, f64, f64), ModelError> {
         let pitch = self.pitch_line(y, stick);
         let for_outputs = asker == Asker::Outputs;
         let k = kinematics(y);
         let (phi1, psi0) = (y[idx::PHI1], self.params.psi0);
         let g = &self.geom;
-        // Laws 4 and 5: the load per unit length |lam| / l of the lines in contact.
-        let line_load = || {
-            let l = g.contact_summary(m, phi1, psi0).length;
-            if l > 0.0 {
-                Ok(lam.abs() / l)
-            } else {
-                Err(ModelError::NoContact { t })
+        let law = self.params.friction_law;
+        // Laws 4 and 5: the force and the load per unit length |lam| / l of the lines in
+        // contact, before the sums.
+        let (line, lam) = match law {
+            FrictionLaw::LocalEhl | FrictionLaw::BenedictKelley => {
+                let l = g.contact_summary(m, phi1, psi0).length;
+                if !(l > 0.0) {
+                    return Err(ModelError::NoContact { t });
+                }
+                let lam = load(l);
+                let line_load = lam.abs() / l;
+                let line = if law == FrictionLaw::LocalEhl {
+                    LineLaw::Ehl(EhlLine::new(
+                        &self.lub,
+                        line_load,
+                        k.omega1,
+                        k.omega2,
+                        m.len_t1t2,
+                        g.cos_beta_b,
+                        g.sin_beta_b,
+                    ))
+                } else {
+                    let fp = &self.params.friction;
+                    LineLaw::BenedictKelley(BkLine::new(
+                        line_load,
+                        fp.eta_oil,
+                        fp.ra,
+                        fp.v_reg,
+                        k.omega1,
+                        k.omega2,
+                        m.len_t1t2,
+                        g.sin_beta_b,
+                    ))
+                };
+                (line, Some(lam))
             }
-        };
-        let (line, mu) = match self.params.friction_law {
-            FrictionLaw::Coulomb => (LineLaw::Coulomb, self.params.mu),
             FrictionLaw::RegularisedCoulomb => (
                 LineLaw::Regularised {
                     v_reg: self.params.friction.v_reg,
                     with_mean: for_outputs,
                 },
-                self.params.mu,
+                None,
             ),
-            FrictionLaw::IsoMean => (LineLaw::Coulomb, self.iso.mu(lam, k.omega1, k.omega2)),
-            FrictionLaw::LocalEhl => {
-                let e = EhlLine::new(
-                    &self.lub,
-                    line_load()?,
-                    k.omega1,
-                    k.omega2,
-                    m.len_t1t2,
-                    g.cos_beta_b,
-                    g.sin_beta_b,
-                );
-                (LineLaw::Ehl(e), 1.0)
-            }
-            FrictionLaw::BenedictKelley => {
-                let fp = &self.params.friction;
-                let e = BkLine::new(
-                    line_load()?,
-                    fp.eta_oil,
-                    fp.ra,
-                    fp.v_reg,
-                    k.omega1,
-                    k.omega2,
-                    m.len_t1t2,
-                    g.sin_beta_b,
-                );
-                (LineLaw::BenedictKelley(e), 1.0)
-            }
+            FrictionLaw::Coulomb | FrictionLaw::IsoMean => (LineLaw::Coulomb, None),
         };
         // m is the mesh of y, so the sums of laws 1-3 are a function of the memo's key;
         // laws 4 and 5 depend on lambda too (the line load): its bits are the variant.
-        let variant = match self.params.friction_law {
-            FrictionLaw::LocalEhl | FrictionLaw::BenedictKelley => lam.to_bits(),
-            law => {
+        let variant = match (law, lam) {
+            (_, Some(lam)) => lam.to_bits(),
+            (law, None) => {
                 let pitch_bits = match pitch {
                     PitchLine::Slide => 0,
                     PitchLine::Stick => 1,
@@ -127,7 +150,19 @@ impl GearedRotor {
         if !(s.contact.length > 0.0) {
             return Err(ModelError::NoContact { t });
         }
-        Ok((s, mu))
+        // Laws 1-3: the force from the sums' l; law 3's coefficient at that force.
+        let (lam, mu) = match lam {
+            Some(lam) => (lam, 1.0),
+            None => {
+                let lam = load(s.contact.length);
+                let mu = match law {
+                    FrictionLaw::IsoMean => self.iso.mu(lam, k.omega1, k.omega2),
+                    _ => self.params.mu,
+                };
+                (lam, mu)
+            }
+        };
+        Ok((s, mu, lam))
     }
 
     /// Load-weighted mean coefficient `1/l int mu_loc ds` of sums from
