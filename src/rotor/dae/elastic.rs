@@ -132,6 +132,13 @@ impl GearedRotor {
         y: &SVector<f64, NY>,
         m: &Mesh,
     ) -> Result<(ElasticContact, Friction), ModelError> {
+        // Free flight (delta <= 0): no force, no friction, and f needs neither the contact
+        // length nor the friction sums (a quarter of a rattle's instructions). The
+        // contact's `length` and `stiffness` are then 0: not evaluated.
+        let g = &self.geom;
+        if !(-g.cos_beta_b * (g.gap_raw(m, y[idx::Q + 6]) + self.g0) > 0.0) {
+            return Ok((self.flank_contact(y, m, self.g0, 0.0), Friction::default()));
+        }
         let mut c = ElasticContact::default();
         let (sums, mu, fn_) =
             self.friction_for_load(t, y, m, Asker::Integrator, self.stick, |length| {
