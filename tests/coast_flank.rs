@@ -519,3 +519,76 @@ fn impacts_do_not_depend_on_the_communication_step() {
         }
     }
 }
+
+/// Outside the elastic model: a spur pair without backlash, brought onto its large orbit
+/// at 6500 rpm and slowed to 6000 rpm after 50 ms, is parametrically unstable (docs/
+/// dynamic_factor.md) and its vibration grows until the flanks overlap by more than m_n / 20;
+/// that is reported once as a tooth overload at a located instant, and with `discard` the
+/// step stops at that instant, where the overlap is the limit. The loaded and reversal runs
+/// above never report one.
+#[test]
+fn tooth_overload_is_reported_where_the_model_leaves_its_validity() {
+    use geared_rotor::gear::GearData;
+    use geared_rotor::sim::{SimError, ViolationKind};
+    let p = elastic(Params {
+        d_phi: 0.0,
+        mu: 0.0,
+        gear: GearData {
+            beta: 0.0,
+            j_bn: 0.0,
+            ..GearData::default()
+        },
+        ..Params::default()
+    });
+    let rpm = |n: f64| n * PI / 30.0;
+    let limit = 0.05 * p.gear.m_n;
+    let h = 1e-4;
+    let speed = |k: usize| if k < 500 { rpm(6500.0) } else { rpm(6000.0) };
+    // Warn: the run goes on, one report.
+    let mut s = sim(p, 1e-8, rpm(6500.0), 100.0);
+    s.set_on_violation(OnViolation::Warn);
+    let mut seen = Vec::new();
+    let mut end = 3000;
+    for k in 0..3000 {
+        s.set_input(Input::Omega1, speed(k)).unwrap();
+        let rep = s.do_step(k as f64 * h, h).unwrap();
+        seen.extend(rep.violations.iter().flatten().copied());
+        if seen.len() == 1 && end == 3000 {
+            end = k + 100;
+        }
+        if k >= end {
+            break;
+        }
+    }
+    assert_eq!(seen.len(), 1, "{seen:?}");
+    let v = seen[0];
+    assert_eq!(v.kind, ViolationKind::ToothOverload);
+    println!("{v}");
+    // Discard: the FMU time stops at the located instant, where the overlap is the limit.
+    let mut s = sim(p, 1e-8, rpm(6500.0), 100.0);
+    let mut stopped = None;
+    for k in 0..3000 {
+        s.set_input(Input::Omega1, speed(k)).unwrap();
+        match s.do_step(k as f64 * h, h) {
+            Ok(_) => {}
+            Err(SimError::Validity(v)) => {
+                stopped = Some(v);
+                break;
+            }
+            Err(e) => panic!("{e:?}"),
+        }
+    }
+    let v = stopped.expect("a Discard");
+    let o = s.outputs();
+    // The overlap of the drive flanks (delta) or of the coast flanks (-delta less the
+    // play, j_bn = 0 here; the centres hardly move against the overlap).
+    let overlap = o.mesh_deflection.abs();
+    println!(
+        "stopped at t = {:.9} s (warn run: {:.9} s); |delta| there {overlap:.6e} m, limit {limit:.1e} m",
+        s.time(),
+        seen[0].t
+    );
+    assert_eq!(s.time(), v.t);
+    assert!((v.t - seen[0].t).abs() < 1e-9);
+    assert!((overlap - limit).abs() < 0.02 * limit, "{overlap}");
+}

@@ -13,7 +13,7 @@ mod problem;
 mod scales;
 
 pub use crate::gear::FrictionLaw;
-pub use contact::{Contact, LastSlot};
+pub use contact::{Contact, LastSlot, OVERLOAD_FRACTION};
 pub use dae::{
     ElasticContact, ElasticMesh, GearedRotor, InitialConditions, RELEASE_BAND, STICK_RELAXATION,
 };

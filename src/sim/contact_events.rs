@@ -11,6 +11,7 @@
 
 use super::error::{solver_err, SimError};
 use super::stepping::StepReport;
+use super::validate::STEP_RESOLUTION;
 use super::validity::locate;
 use super::Simulation;
 use crate::rotor::NY;
@@ -71,8 +72,9 @@ impl Simulation {
                 return Ok(());
             };
             let (tp, tn) = (self.solver.t_prev(), self.solver.t());
+            // (A retake must leave a step t can resolve: `validate::STEP_RESOLUTION`.)
             let sliver = |e: &ContactEvent| {
-                (e.t - tp) <= (1e-9 * (tn - tp)).max(4.0 * f64::EPSILON * tn.abs())
+                (e.t - tp) <= (1e-9 * (tn - tp)).max(1e3 * STEP_RESOLUTION * tn.abs())
             };
             if sliver(&ev) {
                 self.count_contact(ev, report);

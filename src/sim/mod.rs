@@ -169,7 +169,9 @@ impl Simulation {
             Radau5::new(&mut problem, options, t_start, y0).map_err(|e| solver_err(e, t_start))?;
         // The start state's own force decides (it is consistent: model.md §7).
         let contact_lost = problem.model.contact().stepper_lift_off(&y0);
-        let validity = Monitor::new(t_start, contact_lost, y0[idx::OMEGA1]);
+        let margin = problem.model.contact().overload_margin(t_start, &y0);
+        let overload = margin.is_nan() || margin < 0.0;
+        let validity = Monitor::new(t_start, contact_lost, y0[idx::OMEGA1], overload);
         Ok(Simulation {
             problem,
             solver,

@@ -1,6 +1,6 @@
 //! Where the model leaves its validity during a run, located on the dense output.
 //!
-//! Two conditions are watched at every accepted RADAU5 step end and at every communication
+//! Three conditions are watched at every accepted RADAU5 step end and at every communication
 //! point (docs/validity.md lists them with everything else the code detects):
 //! - lift-off: the normal contact force Fn = lambda (consistent value of the hidden
 //!   constraint, as the outputs report it) becomes negative. The rigid single-flank contact
@@ -8,7 +8,10 @@
 //!   backlash), which this model cannot represent;
 //! - drive reversal: the filtered drive speed omega1_filtered becomes <= 0. The model is
 //!   set up for gear 1 driving in the positive sense (the mesh phase advances with phi1,
-//!   mesh events and the loss figures assume it).
+//!   mesh events and the loss figures assume it);
+//! - tooth overload (elastic teeth): the drive or the coast flanks overlap by more than
+//!   m_n / 20 (`Contact::overload_margin`), several times any rating, where the linear
+//!   mesh stiffness no longer holds. Reported once per run (it does not end).
 //!
 //! An episode starts when a condition turns true; its instant is located on the
 //! collocation polynomial of the step in which it happened (Illinois regula falsi on the
@@ -65,6 +68,8 @@ pub enum ViolationKind {
     LiftOff,
     /// omega1_filtered <= 0.
     DriveReversal,
+    /// Elastic teeth deflected by more than m_n / 20.
+    ToothOverload,
 }
 
 /// The start of an episode outside the model's validity.
@@ -76,7 +81,7 @@ pub struct Violation {
     pub t: f64,
     /// Time of the state that revealed it (a step end or communication point) in s.
     pub t_seen: f64,
-    /// Fn in N or omega1_filtered in rad/s there.
+    /// Fn in N, omega1_filtered in rad/s, or the flanks' largest overlap in m there.
     pub value: f64,
 }
 
@@ -112,6 +117,14 @@ impl fmt::Display for Violation {
                  sense, so the results from this instant on are outside the model's validity \
                  (reported once per episode; on_lift_off = discard stops the step here)"
             ),
+            ViolationKind::ToothOverload => write!(
+                f,
+                "tooth overload at t = {t} s: the elastic teeth overlap by more than m_n/20 ({v:.6e} m at \
+                 t = {ts} s). That is several times the load any gear rating allows; the linear mesh stiffness \
+                 of ISO 6336-1 no longer holds there and real teeth would break, so the results from this \
+                 instant on are outside the model's validity (reported once per episode; on_lift_off = \
+                 discard stops the step here)"
+            ),
         }
     }
 }
@@ -127,6 +140,10 @@ pub struct Monitor {
     pub(super) pending_lift_off: bool,
     /// See `pending_lift_off`.
     pub(super) pending_reversal: bool,
+    /// Elastic teeth overloaded at the last check.
+    pub(super) overload: bool,
+    /// See `pending_lift_off`.
+    pub(super) pending_overload: bool,
     /// Time of the last check.
     pub(super) t_checked: f64,
     /// The policy (set by the FMU before every doStep).
@@ -136,26 +153,30 @@ pub struct Monitor {
 impl Monitor {
     /// The monitor for a start state (conditions that already hold are pending): whether
     /// the flanks have lifted off there, and the filtered drive speed.
-    pub(super) fn new(t: f64, lift_off: bool, omega1: f64) -> Self {
+    pub(super) fn new(t: f64, lift_off: bool, omega1: f64, overload: bool) -> Self {
         let reversed = !(omega1 > 0.0);
         Monitor {
             lift_off,
             reversed,
             pending_lift_off: lift_off,
             pending_reversal: reversed,
+            overload,
+            pending_overload: overload,
             t_checked: t,
             policy: OnViolation::Warn,
         }
     }
 
     /// Flags as bits (serialization): lift_off, reversed, pending_lift_off,
-    /// pending_reversal, policy == Discard.
+    /// pending_reversal, policy == Discard, overload, pending_overload.
     pub(super) fn bits(&self) -> u32 {
         u32::from(self.lift_off)
             | u32::from(self.reversed) << 1
             | u32::from(self.pending_lift_off) << 2
             | u32::from(self.pending_reversal) << 3
             | u32::from(self.policy == OnViolation::Discard) << 4
+            | u32::from(self.overload) << 5
+            | u32::from(self.pending_overload) << 6
     }
 
     /// Inverse of [`Monitor::bits`].
@@ -165,6 +186,8 @@ impl Monitor {
             reversed: b & 2 != 0,
             pending_lift_off: b & 4 != 0,
             pending_reversal: b & 8 != 0,
+            overload: b & 32 != 0,
+            pending_overload: b & 64 != 0,
             t_checked,
             policy: if b & 16 != 0 {
                 OnViolation::Discard
@@ -241,6 +264,7 @@ impl Simulation {
                     w.min(-f64::MIN_POSITIVE)
                 }
             }
+            ViolationKind::ToothOverload => self.problem.model.contact().overload_margin(t, y),
         }
     }
 
@@ -289,7 +313,17 @@ impl Simulation {
     ) -> Result<(), SimError> {
         let t = self.time();
         let y = self.y_comm;
-        let mut found = [None, None];
+        let mut found = [None, None, None];
+        if self.validity.pending_overload {
+            let contact = self.problem.model.contact();
+            let m_n = self.problem.model.params().gear.m_n;
+            found[2] = Some(Violation {
+                kind: ViolationKind::ToothOverload,
+                t,
+                t_seen: t,
+                value: crate::rotor::OVERLOAD_FRACTION * m_n - contact.overload_margin(t, &y),
+            });
+        }
         if self.validity.pending_reversal {
             found[0] = Some(Violation {
                 kind: ViolationKind::DriveReversal,
@@ -308,6 +342,7 @@ impl Simulation {
         }
         self.validity.pending_lift_off = false;
         self.validity.pending_reversal = false;
+        self.validity.pending_overload = false;
         self.emit(found, report)
     }
 
@@ -320,21 +355,38 @@ impl Simulation {
         y: &SVector<f64, NY>,
         report: &mut super::StepReport,
     ) -> Result<(), SimError> {
-        let was = [self.validity.reversed, self.validity.lift_off];
-        let kinds = [ViolationKind::DriveReversal, ViolationKind::LiftOff];
+        let was = [
+            self.validity.reversed,
+            self.validity.lift_off,
+            self.validity.overload,
+        ];
+        let kinds = [
+            ViolationKind::DriveReversal,
+            ViolationKind::LiftOff,
+            ViolationKind::ToothOverload,
+        ];
         // Cheap decisions first; lift-off as the contact decides it (`Contact::lifted_off`:
         // the stepper's lambda, a change confirmed with the consistent force; never for
         // elastic teeth).
         let now = [
             !(y[idx::OMEGA1] > 0.0),
             self.problem.model.contact().lifted_off(th, y, was[1]),
+            // An overload is reported once per run: the teeth vibrate through the limit
+            // at the mesh frequency, and what follows the first is outside the model anyway.
+            was[2] || !(self.problem.model.contact().overload_margin(th, y) >= 0.0),
         ];
         let lo = self.validity.t_checked.max(self.solver.t_prev());
-        let mut found = [None, None];
-        for k in 0..2 {
+        let mut found = [None, None, None];
+        for k in 0..3 {
             if now[k] && !was[k] {
                 let kind = kinds[k];
                 let value = self.indicator(kind, th, y);
+                // (The indicator is the margin; an overload reports the overlap itself.)
+                let shown = if kind == ViolationKind::ToothOverload {
+                    crate::rotor::OVERLOAD_FRACTION * self.problem.model.params().gear.m_n - value
+                } else {
+                    value
+                };
                 let t = if lo < th && self.solver.stats().naccpt > 0 {
                     let solver: &Radau5<NY> = &self.solver;
                     let mut ys = SVector::<f64, NY>::zeros();
@@ -355,12 +407,13 @@ impl Simulation {
                     kind,
                     t,
                     t_seen: th,
-                    value,
+                    value: shown,
                 });
             }
         }
         self.validity.reversed = now[0];
         self.validity.lift_off = now[1];
+        self.validity.overload = now[2];
         self.validity.t_checked = th;
         self.emit(found, report)
     }
@@ -369,7 +422,7 @@ impl Simulation {
     /// time and last successful time there) with [`SimError::Validity`].
     fn emit(
         &mut self,
-        found: [Option<Violation>; 2],
+        found: [Option<Violation>; 3],
         report: &mut super::StepReport,
     ) -> Result<(), SimError> {
         let mut first: Option<Violation> = None;
@@ -429,14 +482,15 @@ mod tests {
 
     #[test]
     fn monitor_flags_survive_their_encoding() {
-        for b in 0..32u32 {
+        for b in 0..128u32 {
             let m = Monitor::from_bits(b, 1.5);
             assert_eq!(m.bits(), b);
             assert_eq!(m.t_checked, 1.5);
         }
-        let m = Monitor::new(0.0, true, 0.0);
+        let m = Monitor::new(0.0, true, 0.0, true);
         assert!(m.lift_off && m.reversed && m.pending_lift_off && m.pending_reversal);
-        let m = Monitor::new(0.0, false, f64::NAN);
+        assert!(m.overload && m.pending_overload);
+        let m = Monitor::new(0.0, false, f64::NAN, false);
         assert!(!m.lift_off && m.reversed, "NaN speed counts as outside");
     }
 }

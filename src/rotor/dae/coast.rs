@@ -122,6 +122,16 @@ impl GearedRotor {
         -g.cos_beta_b * gc
     }
 
+    /// The coast approach `delta_c` at the drive mesh `m` and transmission-error
+    /// coordinate `xi` (`model.md` (3.23)); `-inf` without coast flanks.
+    pub(crate) fn coast_approach_at(&self, m: &crate::gear::Mesh, xi: f64) -> f64 {
+        if self.coast.is_some() {
+            self.coast_approach(m, xi)
+        } else {
+            f64::NEG_INFINITY
+        }
+    }
+
     /// Whether the coast flanks overlap at y (`delta_c > 0`; false without coast flanks or
     /// when the mesh cannot be evaluated).
     pub(crate) fn coast_touches(&self, t: f64, y: &SVector<f64, NY>) -> bool {
