@@ -257,3 +257,43 @@ def test_rattle_counts_each_onset_in_its_interval(pkg):
     onset = seen_onsets(ms)
     missed = tr.t[1:][onset & (np.diff(imp) < 1)]
     assert missed.size == 0, f"onsets not counted in the interval ending at {missed} s"
+
+
+# -- outside the model: tooth overload ------------------------------------------------
+
+@pytest.mark.parametrize("on_lift_off", list(ON_LIFT_OFF), ids=list(ON_LIFT_OFF))
+def test_tooth_overload_is_reported_once(pkg, on_lift_off):
+    """A spur pair without backlash driven onto its parametrically unstable orbit (6500 rpm
+    for 50 ms, then 6000 rpm; docs/dynamic_factor.md): the vibration grows until the flanks
+    overlap by more than m_n/20, where the model leaves its validity. warn: one warning
+    naming the tooth overload in the log, the run goes on; discard: fmi2Discard, and the FMU time (the
+    last successful time) is the located instant, where |mesh_deflection| is m_n/20."""
+    rpm = math.pi / 30.0
+    params = {"T_load": 100.0, "d_phi": 0.0, "mu": 0.0, "friction_law": 1, "beta": 0.0,
+              "j_bn": 0.0, "omega1": 6500.0 * rpm, "on_lift_off": ON_LIFT_OFF[on_lift_off]}
+    inst = pkg.instance("overload", logging_on=True)
+    try:
+        inst.initialize({"tooth_contact": 2, "initialization": 2, **params}, tolerance=1e-8)
+        m_n = inst.get(["m_n"])["m_n"]
+        h, t, statuses = 1e-4, 0.0, []
+        for k in range(1500):
+            inst.set({"omega1": (6500.0 if k < 500 else 6000.0) * rpm})
+            st = call_status(inst.do_step, h)
+            statuses.append(st)
+            if st != FMI2_OK and on_lift_off == "discard":
+                break
+            t += h
+        warnings = [str(r) for r in inst.log if r.status > FMI2_OK]
+        print(on_lift_off, set(statuses), warnings[:1])
+        if on_lift_off == "warn":
+            # (FMPy raises only above fmi2Warning: the warning shows in the log.)
+            assert set(statuses) == {FMI2_OK}, set(statuses)
+            assert len(warnings) == 1 and "tooth overload" in warnings[0], warnings
+        else:
+            assert statuses[-1] == 2, statuses[-1]
+            assert any("tooth overload" in w for w in warnings), warnings
+            delta = abs(inst.get(["mesh_deflection"])["mesh_deflection"])
+            print(f"stopped with |mesh_deflection| = {delta:.6e} m (limit {0.05 * m_n:.1e} m)")
+            assert delta == pytest.approx(0.05 * m_n, rel=0.02)
+    finally:
+        inst.terminate_and_free()
