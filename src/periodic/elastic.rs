@@ -18,7 +18,7 @@
 // `!(a > b)` on purpose: it also counts NaN as outside, which `a <= b` would let pass.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::shooting::ShootingOptions;
+use super::shooting::{monodromy_of, newton, PeriodMap, ShootingOptions, ShootingResult};
 use super::{OrbitPoint, PeriodicError, PeriodicSystem};
 use crate::radau5::Statistics;
 use crate::rotor::{idx, InitialConditions, NY};
@@ -191,33 +191,11 @@ pub fn lift_elastic_with(
     Ok(y)
 }
 
-/// The converged periodic orbit in elastic mode.
-#[derive(Debug, Clone)]
-pub struct ElasticShootingResult {
-    /// Periodic state at the start of the period.
-    pub z: ElasticReduced,
-    /// Scaled max-norm of `P(z) - z` at the solution ([`PeriodicSystem::scales_elastic`]).
-    pub residual: f64,
-    /// Scaled residual before each Newton update.
-    pub residual_history: Vec<f64>,
-    /// Newton iterations taken.
-    pub iterations: usize,
-    /// Forward-difference monodromy matrix dP/dz at the solution.
-    pub monodromy: ElasticMatrix,
-    /// Its eigenvalues, the Floquet multipliers, by decreasing modulus.
-    pub floquet: Vec<Complex<f64>>,
-    /// The orbit sampled at `ShootingOptions::samples` equidistant times (lambda = Fn).
-    pub orbit: Vec<OrbitPoint>,
-    /// RADAU5 steps of one period integration at the solution.
-    pub steps_per_period: u64,
-}
+/// The converged periodic orbit in elastic mode (the state is [`ElasticReduced`], the
+/// orbit's lambda is Fn).
+pub type ElasticShootingResult = ShootingResult<NZE>;
 
-impl ElasticShootingResult {
-    /// Largest modulus of the Floquet multipliers.
-    pub fn floquet_max_abs(&self) -> f64 {
-        self.floquet.first().map_or(0.0, |c| c.norm())
-    }
-
+impl ShootingResult<NZE> {
     /// Largest and smallest normal force over the sampled orbit, N.
     pub fn fn_range(&self) -> (f64, f64) {
         self.orbit
@@ -228,10 +206,25 @@ impl ElasticShootingResult {
     }
 }
 
-fn scaled_norm(r: &ElasticReduced, s: &ElasticReduced) -> f64 {
-    r.iter()
-        .zip(s.iter())
-        .fold(0.0f64, |m, (a, b)| m.max((a / b).abs()))
+/// The elastic contact's period map on [`ElasticReduced`].
+struct Elastic<'a>(&'a mut PeriodicSystem);
+
+impl PeriodMap<NZE> for Elastic<'_> {
+    fn integrate(
+        &mut self,
+        z: &ElasticReduced,
+        periods: usize,
+        rtol: f64,
+        samples: Option<(usize, &mut Vec<OrbitPoint>)>,
+    ) -> Result<(ElasticReduced, Statistics), PeriodicError> {
+        self.0.integrate_elastic(z, periods, rtol, samples)
+    }
+    fn scales(&self) -> ElasticReduced {
+        self.0.scales_elastic()
+    }
+    fn fd_steps(&self, rel: f64, rtol: f64) -> ElasticReduced {
+        self.0.fd_steps_elastic(rel, rtol)
+    }
 }
 
 /// Forward-difference monodromy of the elastic period map around `z`, `p = P(z)` known,
@@ -246,16 +239,7 @@ pub fn monodromy_elastic(
     rel: f64,
     rtol: f64,
 ) -> Result<ElasticMatrix, PeriodicError> {
-    let steps = sys.fd_steps_elastic(rel, rtol);
-    let mut m = ElasticMatrix::zeros();
-    for i in 0..NZE {
-        let d = steps[i];
-        let mut zi = *z;
-        zi[i] += d;
-        let (pi, _) = sys.integrate_elastic(&zi, 1, rtol, None)?;
-        m.set_column(i, &((pi - p) / d));
-    }
-    Ok(m)
+    monodromy_of(&mut Elastic(sys), z, p, rel, rtol)
 }
 
 /// Periodic orbit in elastic mode by shooting from `start` (e.g.
@@ -271,52 +255,7 @@ pub fn shoot_elastic(
     opts: &ShootingOptions,
 ) -> Result<ElasticShootingResult, PeriodicError> {
     sys.require_elastic()?;
-    let scales = sys.scales_elastic();
-    let mut z = *start;
-    if opts.transient_periods > 0 {
-        z = sys
-            .integrate_elastic(&z, opts.transient_periods, opts.rtol, None)?
-            .0;
-    }
-    let mut history = Vec::new();
-    let mut iterations = 0;
-    loop {
-        let (p, _) = sys.integrate_elastic(&z, 1, opts.rtol, None)?;
-        let r = p - z;
-        let res = scaled_norm(&r, &scales);
-        history.push(res);
-        let m = monodromy_elastic(sys, &z, &p, opts.fd_step, opts.rtol)?;
-        if res <= opts.tol {
-            let mut orbit = Vec::with_capacity(opts.samples);
-            let (_, stats) =
-                sys.integrate_elastic(&z, 1, opts.rtol, Some((opts.samples, &mut orbit)))?;
-            let mut floquet: Vec<Complex<f64>> = m.complex_eigenvalues().iter().copied().collect();
-            floquet.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
-            return Ok(ElasticShootingResult {
-                z,
-                residual: res,
-                residual_history: history,
-                iterations,
-                monodromy: m,
-                floquet,
-                orbit,
-                steps_per_period: stats.naccpt,
-            });
-        }
-        if iterations >= opts.max_newton {
-            return Err(PeriodicError::NoConvergence {
-                method: "shooting (elastic)",
-                iterations,
-                residual: res,
-            });
-        }
-        let jac = m - ElasticMatrix::identity();
-        let dz = jac.lu().solve(&(-r)).ok_or(PeriodicError::Singular {
-            method: "shooting (elastic)",
-        })?;
-        z += dz;
-        iterations += 1;
-    }
+    newton(&mut Elastic(sys), start, opts, "shooting (elastic)")
 }
 
 /// Shooting settings for the elastic contact: RADAU5 at rtol 1e-10 (the elastic contact's
