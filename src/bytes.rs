@@ -18,7 +18,8 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// 6: `zeta_mesh` in the parameter table, `tooth_contact` after it (elastic contact), and
 ///    the parameters of the ISO 6336-1 stiffness (`c_gamma`, `h_fP`).
 /// 7: the backlash `j_bn` in the parameter table (coast flanks of the elastic contact).
-pub const VERSION: u32 = 7;
+/// 8: 23 state components (the mesh damping's energy before lambda); RADAU5's norm count.
+pub const VERSION: u32 = 8;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]

@@ -592,3 +592,64 @@ fn tooth_overload_is_reported_where_the_model_leaves_its_validity() {
     assert!((v.t - seen[0].t).abs() < 1e-9);
     assert!((overlap - limit).abs() < 0.02 * limit, "{overlap}");
 }
+
+/// E_mesh_damp (the mesh damping's energy, its own quadrature) is the part of E_damp the
+/// dampers do not take: E_damp - E_mesh_damp equals the integral of the dampers' power
+/// P_damp (bearings and d_phi), integrated here by the trapezoidal rule on 10 us samples
+/// of the output, and the energy balance holds with E_damp; E_mesh_damp never falls (its
+/// power is >= 0) and is 0 with rigid teeth.
+#[test]
+fn mesh_damping_energy_is_the_rest_of_e_damp() {
+    for (contact, omega1_amp) in [(ToothContact::Elastic, 0.05), (ToothContact::Rigid, 0.0)] {
+        let p = Params {
+            tooth_contact: contact,
+            d_phi: 0.01,
+            ..Params::default()
+        };
+        let t_load = if contact == ToothContact::Rigid {
+            50.0
+        } else {
+            0.0
+        };
+        let mut s = sim(p, 1e-10, OMEGA1, t_load);
+        let h = 1e-5;
+        let o0 = s.outputs();
+        let mut o_prev = o0;
+        let mut integral = 0.0;
+        let mut worst = 0.0f64;
+        // With the balance (3.21), which holds only if E_mesh_damp takes exactly the mesh
+        // damping's dissipation, this pins E_mesh_damp (the first check alone reads only
+        // the dampers' slot).
+        let mut bal = Balance::default();
+        for k in 0..3000 {
+            let t = k as f64 * h;
+            let w = OMEGA1 * (1.0 + omega1_amp * (2.0 * PI * 30.0 * t).sin());
+            s.set_input(Input::Omega1, w).unwrap();
+            s.do_step(t, h).unwrap();
+            let o = s.outputs();
+            integral += 0.5 * h * (o.p_damp + o_prev.p_damp);
+            assert!(
+                o.e_mesh_damp >= o_prev.e_mesh_damp - 1e-9 * o.e_damp.max(1e-3),
+                "{} -> {}",
+                o_prev.e_mesh_damp,
+                o.e_mesh_damp
+            );
+            worst = worst.max((o.e_damp - o.e_mesh_damp - integral).abs() / integral.max(1e-9));
+            bal.add(&o, &o0);
+            o_prev = o;
+        }
+        println!(
+            "{contact:?}: 30 ms, E_damp {:.6e} J, E_mesh_damp {:.6e} J, integral of P_damp \
+             {integral:.6e} J; worst |E_damp - E_mesh_damp - int P_damp| / int {worst:.2e}",
+            o_prev.e_damp, o_prev.e_mesh_damp
+        );
+        assert!(worst < 2e-4, "{contact:?}: {worst:e}");
+        println!("energy balance {:.2e}", bal.relative());
+        assert!(bal.relative() < 1e-8, "{contact:?}: {:e}", bal.relative());
+        if contact == ToothContact::Rigid {
+            assert_eq!(o_prev.e_mesh_damp, 0.0);
+        } else {
+            assert!(o_prev.e_mesh_damp > 1e-3);
+        }
+    }
+}

@@ -168,6 +168,7 @@ pub fn output_values(o: &Outputs, v: &mut Values) {
     v[Var::E_in as usize] = o.e_in;
     v[Var::E_loss as usize] = o.e_loss;
     v[Var::E_damp as usize] = o.e_damp;
+    v[Var::E_mesh_damp as usize] = o.e_mesh_damp;
     v[Var::E_load as usize] = o.e_load;
     v[Var::E_kin as usize] = o.e_kin;
     v[Var::E_pot as usize] = o.e_pot;

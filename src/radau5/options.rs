@@ -115,6 +115,11 @@ pub struct Options<const N: usize> {
     /// size N - m1 - #quadratures). Rows `i < m1` of J are taken as `e_(i+m2)` whatever the
     /// Jacobian says. Changes rounding (not the method): keep it off for Fortran parity.
     pub second_order: Option<(usize, usize)>,
+    /// The number of components the error and Newton norms average over (radau5.f: N,
+    /// the default; `1 <= norm_count <= N`). A problem with components that stay zero in
+    /// some configurations (e.g. an energy that only one contact model accumulates) gives
+    /// the count of the others there, so that its steps are those of the smaller system.
+    pub norm_count: usize,
 }
 
 impl<const N: usize> Default for Options<N> {
@@ -142,6 +147,7 @@ impl<const N: usize> Default for Options<N> {
             resume_after_stop: 1.0,
             quadrature: [false; N],
             second_order: None,
+            norm_count: N,
         }
     }
 }
@@ -174,6 +180,8 @@ pub(crate) struct Params<const N: usize> {
     pub quot2: f64,
     /// `Options::resume_after_stop`.
     pub resume: f64,
+    /// `Options::norm_count`.
+    pub norm_count: usize,
 }
 
 fn invalid(name: &'static str, value: f64, requirement: &'static str) -> Error {
@@ -241,6 +249,13 @@ impl<const N: usize> Params<N> {
         if o.keep_h_hi.is_nan() || o.keep_h_hi < 1.0 {
             return Err(invalid("keep_h_hi", o.keep_h_hi, "keep_h_hi >= 1"));
         }
+        if !(1..=N).contains(&o.norm_count) {
+            return Err(invalid(
+                "norm_count",
+                o.norm_count as f64,
+                "1 <= norm_count <= N",
+            ));
+        }
         if !(0.0..=1.0).contains(&o.resume_after_stop) {
             return Err(invalid(
                 "resume_after_stop",
@@ -293,6 +308,7 @@ impl<const N: usize> Params<N> {
             quot1: o.keep_h_lo,
             quot2: o.keep_h_hi,
             resume: o.resume_after_stop,
+            norm_count: o.norm_count,
         })
     }
 }

@@ -16,7 +16,8 @@ use crate::bytes::{fnv1a64, Reader, Writer};
 const MAGIC: [u8; 8] = *b"RADAU5SN";
 /// 2: `y_prev`, `f_prev` (for `Radau5::retake`) after `t_prev`.
 /// 3: `resume_after_stop` after `quot2`.
-const VERSION: u32 = 3;
+/// 4: `norm_count` after `resume_after_stop`.
+const VERSION: u32 = 4;
 const HEADER_LEN: usize = 8 + 4 + 4 + 8;
 const CHECKSUM_LEN: usize = 8;
 
@@ -195,6 +196,10 @@ fn visit_params<const N: usize, I: Io>(io: &mut I, p: &mut Params<N>) -> Result<
     io.f64(&mut p.quot1)?;
     io.f64(&mut p.quot2)?;
     io.f64(&mut p.resume)?;
+    io.usize(&mut p.norm_count, "norm_count")?;
+    if !(1..=N).contains(&p.norm_count) {
+        return Err(SnapshotError::InvalidField { name: "norm_count" });
+    }
     Ok(())
 }
 
@@ -286,6 +291,7 @@ fn zero_state<const N: usize>() -> State<N> {
         quot1: 0.0,
         quot2: 0.0,
         resume: 0.0,
+        norm_count: N,
     });
     State::fresh(params, None, 0.0, SVector::zeros(), 0.0)
 }

@@ -451,7 +451,7 @@ impl<const N: usize> Radau5<N> {
             }
         }
         blk.solve1(&s.lu1, el, fac1, &mut cont);
-        let mut err = Self::scaled_rms(&cont, &s.scal);
+        let mut err = Self::scaled_rms(&cont, &s.scal, s.params.norm_count);
         if (err.is_nan() || err >= 1.0) && (s.first || s.reject) {
             let mut y1 = s.y;
             y1 += &cont;
@@ -463,7 +463,7 @@ impl<const N: usize> Radau5<N> {
                 cont[i] = f1[i] + fm[i];
             }
             blk.solve1(&s.lu1, el, fac1, &mut cont);
-            err = Self::scaled_rms(&cont, &s.scal);
+            err = Self::scaled_rms(&cont, &s.scal, s.params.norm_count);
         }
         if err.is_nan() {
             return Err(Failure::NonFinite);
@@ -688,7 +688,7 @@ pub(super) fn newton_increment<const N: usize>(
         let q3 = z3[i] / denom;
         dyno = dyno + q1 * q1 + q2 * q2 + q3 * q3;
     }
-    (dyno / (3 * N) as f64).sqrt()
+    (dyno / (3 * s.params.norm_count) as f64).sqrt()
 }
 
 /// `F_k = f(t_k, y + Z_k)` at the three collocation stages (radau5.f's three FCN calls per

@@ -497,15 +497,16 @@ impl<const N: usize> Radau5<N> {
         Ok(())
     }
 
-    /// `max(sqrt(sum (e_i/sc_i)^2 / N), 1e-10)` in the Fortran's summation order.
+    /// `max(sqrt(sum (e_i/sc_i)^2 / n), 1e-10)` in the Fortran's summation order, with
+    /// `n = Options::norm_count` (N in the Fortran).
     #[inline]
-    pub(super) fn scaled_rms(e: &SVector<f64, N>, scal: &SVector<f64, N>) -> f64 {
+    pub(super) fn scaled_rms(e: &SVector<f64, N>, scal: &SVector<f64, N>, n: usize) -> f64 {
         let mut err = 0.0;
         for i in 0..N {
             let q = e[i] / scal[i];
             err += q * q;
         }
-        (err / N as f64).sqrt().max(1.0e-10)
+        (err / n as f64).sqrt().max(1.0e-10)
     }
 
     /// Value of the collocation polynomial of the last accepted step at `t`

@@ -378,11 +378,12 @@ impl GearedRotor {
         f[idx::E_IN] = t1 * omega1;
         f[idx::E_LOSS] = fr.p_loss + coast.p_loss;
         f[idx::E_LOAD] = t_load * omega2;
+        f[idx::E_DAMP] = p_damp;
         if let Some(c) = &elastic {
-            f[idx::E_DAMP] = p_damp + c.p_damp + coast.contact.p_damp;
+            f[idx::E_MESH_DAMP] = c.p_damp + coast.contact.p_damp;
             f[idx::LAMBDA] = c.p_spring + coast.contact.p_spring;
         } else {
-            f[idx::E_DAMP] = p_damp;
+            f[idx::E_MESH_DAMP] = 0.0;
             // Velocity-level constraint (§3.3).
             f[idx::LAMBDA] = gv - g.rb1 * g.cos_beta_b * omega1;
         }
@@ -980,7 +981,9 @@ impl GearedRotor {
         o.stick = self.stick;
         o.e_in = y[idx::E_IN];
         o.e_loss = y[idx::E_LOSS];
-        o.e_damp = y[idx::E_DAMP];
+        // The dampers' and the mesh damping's (elastic teeth; 0 with rigid ones).
+        o.e_damp = y[idx::E_DAMP] + y[idx::E_MESH_DAMP];
+        o.e_mesh_damp = y[idx::E_MESH_DAMP];
         o.e_load = y[idx::E_LOAD];
         let mut e_kin = 0.5 * self.params.rotor1.j * omega1 * omega1;
         let mut e_pot = 0.0;

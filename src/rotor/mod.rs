@@ -25,9 +25,9 @@ use crate::fmt_num::Short;
 use std::fmt;
 
 /// Length of the state vector y.
-pub const NY: usize = 22;
+pub const NY: usize = 23;
 
-/// Layout of y. `M_ext = diag(I7, M, 1, 1, 1, 1, 1, 1, 1, 0)`.
+/// Layout of y. `M_ext = diag(I7, M, 1, 1, 1, 1, 1, 1, 1, 1, 0)`.
 pub mod idx {
     /// 7 positions: u1x u1y u1z u2x u2y u2z, then `xi`.
     ///
@@ -57,14 +57,18 @@ pub mod idx {
     pub const E_DAMP: usize = 19;
     /// Energy taken by the load torque, E_load' = T_load omega2.
     pub const E_LOAD: usize = 20;
+    /// Energy dissipated by the mesh damping of elastic teeth (`model.md` §3.5), E_md' =
+    /// `Fn delta' - k delta delta'` of both flanks; 0 for rigid teeth (where it stays out
+    /// of the solver's norms: `rotor::dae_structure`).
+    pub const E_MESH_DAMP: usize = 21;
     /// Rigid contact: the Lagrange multiplier lambda = normal contact force (index-2
     /// variable). Elastic contact (`model.md` §3.5): the work stored in the mesh spring,
     /// `E_s' = k delta delta'` (a quadrature; the normal force is a function of the state).
-    pub const LAMBDA: usize = 21;
+    pub const LAMBDA: usize = 22;
 }
 
 /// Number of index-1 (differential) components for RADAU5.
-pub const N_INDEX1: usize = 21;
+pub const N_INDEX1: usize = 22;
 /// Number of index-2 components for RADAU5 (lambda).
 pub const N_INDEX2: usize = 1;
 
@@ -191,6 +195,9 @@ pub struct Outputs {
     pub e_loss: f64,
     /// Cumulative damper loss.
     pub e_damp: f64,
+    /// Energy dissipated by the mesh damping of elastic teeth (part of `e_damp`), J; 0
+    /// for rigid teeth.
+    pub e_mesh_damp: f64,
     /// Cumulative load energy.
     pub e_load: f64,
     /// 1/2 q'^T M q' + 1/2 J1 omega1^2.

@@ -41,12 +41,14 @@ impl Problem<NY> for RotorProblem {
 /// co-simulation and the periodic solutions (tolerances, h_max and step limits are theirs
 /// to add): index-1 and index-2 counts (lambda); the energies as quadratures (they enter no
 /// right-hand side: zero Jacobian columns and identity rows of `M_ext`, so 18 x 18 instead
-/// of 22 x 22 factorisations, radau5 `Options::quadrature`); `u_i' = v_i` (i < 6)
+/// of 23 x 23 factorisations, radau5 `Options::quadrature`); `u_i' = v_i` (i < 6)
 /// eliminated from the linear systems, which leaves 12 x 12 LUs (radau5
 /// `Options::second_order`, Fortran IWORK(9..10)).
 ///
-/// With the elastic contact (`model.md` §3.5) there is no constraint: an ODE (`n1 = 22`,
-/// `n2 = 0`), whose last component, the work stored in the mesh spring, is a quadrature.
+/// With the elastic contact (`model.md` §3.5) there is no constraint: an ODE (`n1 = 23`,
+/// `n2 = 0`), whose last component, the work stored in the mesh spring, is a quadrature;
+/// the mesh damping's energy (`idx::E_MESH_DAMP`) is a quadrature in both, counted in the
+/// solver's norms only with elastic teeth (it is 0 with rigid ones).
 pub fn dae_structure(contact: ToothContact) -> Options<NY> {
     let (n1, n2) = match contact {
         ToothContact::Rigid => (super::N_INDEX1, super::N_INDEX2),
@@ -57,10 +59,16 @@ pub fn dae_structure(contact: ToothContact) -> Options<NY> {
         n2,
         n3: 0,
         quadrature: std::array::from_fn(|i| {
-            (idx::E_IN..=idx::E_LOAD).contains(&i)
+            (idx::E_IN..=idx::E_MESH_DAMP).contains(&i)
                 || (i == idx::LAMBDA && contact == ToothContact::Elastic)
         }),
         second_order: Some((6, idx::V)),
+        // Rigid teeth have no mesh damping: E_MESH_DAMP stays 0 and out of the norms, so
+        // that the steps are those of the 22 other components.
+        norm_count: match contact {
+            ToothContact::Rigid => NY - 1,
+            ToothContact::Elastic => NY,
+        },
         ..Options::default()
     }
 }

@@ -59,6 +59,7 @@ const fn default_pair() -> [f64; NY] {
     s[idx::E_LOSS] = 1.0;
     s[idx::E_DAMP] = 1.0;
     s[idx::E_LOAD] = 1.0;
+    s[idx::E_MESH_DAMP] = 1.0;
     s[idx::LAMBDA] = 1e3;
     s
 }
@@ -142,7 +143,13 @@ pub fn error_scales(model: &GearedRotor, t0: f64) -> [f64; NY] {
     }
     s[idx::Q + 6] *= defl;
     s[idx::PHI1] *= angle;
-    for i in [idx::E_IN, idx::E_LOSS, idx::E_DAMP, idx::E_LOAD] {
+    for i in [
+        idx::E_IN,
+        idx::E_LOSS,
+        idx::E_DAMP,
+        idx::E_LOAD,
+        idx::E_MESH_DAMP,
+    ] {
         s[i] *= load * defl;
     }
     s[idx::LAMBDA] *= load;

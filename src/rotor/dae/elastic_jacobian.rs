@@ -165,7 +165,7 @@ impl GearedRotor {
         add_force_columns(jac, &col, &grads.d_fn);
         // The last slot's rate is p_spring; E_damp's gains p_damp (§3.5).
         jac.row_mut(lam_i).copy_from(&grads.d_p_spring.transpose());
-        let mut r = jac.row_mut(idx::E_DAMP);
+        let mut r = jac.row_mut(idx::E_MESH_DAMP);
         r += grads.d_p_damp.transpose();
         if !jac.iter().all(|x| x.is_finite()) {
             return Err(ModelError::NonFinite {
