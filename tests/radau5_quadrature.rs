@@ -271,3 +271,93 @@ fn second_order_elimination_matches_closed_form_and_energy_balance() {
         })
     ));
 }
+
+/// y = (a, b) of `Linear` without its quadratures, for the norm-count check.
+struct Pair;
+
+impl Problem<2> for Pair {
+    fn rhs(
+        &mut self,
+        _t: f64,
+        y: &SVector<f64, 2>,
+        f: &mut SVector<f64, 2>,
+    ) -> Result<(), RhsError> {
+        f[0] = -50.0 * y[0];
+        f[1] = -2.0 * y[1] + y[0];
+        Ok(())
+    }
+}
+
+/// (a, b, z) with z' = 0 from z(0) = 0: a component that stays zero.
+struct PairAndZero;
+
+impl Problem<3> for PairAndZero {
+    fn rhs(
+        &mut self,
+        _t: f64,
+        y: &SVector<f64, 3>,
+        f: &mut SVector<f64, 3>,
+    ) -> Result<(), RhsError> {
+        f[0] = -50.0 * y[0];
+        f[1] = -2.0 * y[1] + y[0];
+        f[2] = 0.0;
+        Ok(())
+    }
+}
+
+/// `Options::norm_count`: a quadrature that stays zero, left out of the norms
+/// (norm_count = 2 of 3), gives the steps of the system without it and its values;
+/// counted (the default 3), it makes the norms smaller and the steps different. Out of
+/// range counts are refused.
+#[test]
+fn norm_count_leaves_a_zero_component_out_of_the_norms() {
+    let o2 = Options::<2> {
+        rtol: Tolerance::Scalar(1e-6),
+        atol: Tolerance::Scalar(1e-9),
+        jacobian: JacobianMode::FiniteDifference,
+        ..Options::default()
+    };
+    let o3 = |count: usize| Options::<3> {
+        rtol: Tolerance::Scalar(1e-6),
+        atol: Tolerance::Scalar(1e-9),
+        jacobian: JacobianMode::FiniteDifference,
+        quadrature: [false, false, true],
+        norm_count: count,
+        ..Options::default()
+    };
+    let mut p2 = Pair;
+    let mut s2 = Radau5::new(&mut p2, o2, 0.0, SVector::<f64, 2>::new(1.0, 1.0)).unwrap();
+    s2.integrate_to(&mut p2, 1.0).unwrap();
+    let run3 = |count: usize| {
+        let mut p3 = PairAndZero;
+        let y0 = SVector::<f64, 3>::new(1.0, 1.0, 0.0);
+        let mut s3 = Radau5::new(&mut p3, o3(count), 0.0, y0).unwrap();
+        s3.integrate_to(&mut p3, 1.0).unwrap();
+        s3
+    };
+    let left_out = run3(2);
+    let counted = run3(3);
+    println!(
+        "2 components: {}; 3 with norm_count 2: {}; with 3: {}",
+        s2.stats(),
+        left_out.stats(),
+        counted.stats()
+    );
+    assert_eq!(left_out.stats().naccpt, s2.stats().naccpt);
+    assert_eq!(left_out.stats().nrejct, s2.stats().nrejct);
+    // (The same steps; the values to rounding: a quadrature block is eliminated by
+    // forward substitution, which rounds differently from one LU of the whole system.)
+    for i in 0..2 {
+        assert!((left_out.y()[i] - s2.y()[i]).abs() <= 1e-15, "{i}");
+    }
+    assert_eq!(left_out.y()[2], 0.0);
+    assert_ne!(counted.stats().nstep, s2.stats().nstep);
+    for bad in [0usize, 4] {
+        let mut p3 = PairAndZero;
+        let r = Radau5::new(&mut p3, o3(bad), 0.0, SVector::<f64, 3>::zeros());
+        assert!(
+            matches!(r, Err(Error::InvalidOption { name: "norm_count", .. })),
+            "{bad}"
+        );
+    }
+}
