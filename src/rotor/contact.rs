@@ -16,9 +16,11 @@
 //!   never negative: flanks that part are free flight within the model, not a violation.
 //!   The onsets and separations of the drive and the coast flanks are state events.
 //!
-//! This first step keeps the layout of y (one shared last slot, `idx::LAMBDA`) and the
-//! scales where they are (`GearedRotor::scales`, `rotor::dae_structure`); the simulation
-//! layer (`sim`) asks here instead of reading the last slot or branching on the contact.
+//! The layout of y is shared (23 components; the last slot `idx::LAMBDA` means what
+//! [`Contact::last_slot`] says; `idx::E_MESH_DAMP` stays 0 with rigid teeth, and the
+//! solver leaves it out of its norms there) and the solver structure and scales are kept
+//! where they are (`rotor::dae_structure`, `GearedRotor::scales`); the simulation layer
+//! (`sim`) asks here instead of reading the last slot or branching on the contact.
 
 use super::{idx, GearedRotor, ModelError, ToothContact, NY};
 use nalgebra::SVector;
