@@ -356,7 +356,13 @@ fn norm_count_leaves_a_zero_component_out_of_the_norms() {
         let mut p3 = PairAndZero;
         let r = Radau5::new(&mut p3, o3(bad), 0.0, SVector::<f64, 3>::zeros());
         assert!(
-            matches!(r, Err(Error::InvalidOption { name: "norm_count", .. })),
+            matches!(
+                r,
+                Err(Error::InvalidOption {
+                    name: "norm_count",
+                    ..
+                })
+            ),
             "{bad}"
         );
     }
