@@ -547,10 +547,13 @@ fn main() {
             if !selected {
                 continue;
             }
+            // The elastic contact's mesh mode (2.9 kHz) needs h_fixed <= 5e-5 s: at 1e-4 s
+            // (3 steps per period) its fixed Newton iteration fails (docs/model.md §3.6).
             let vs: Vec<(bool, bool)> = variants
                 .iter()
                 .copied()
                 .filter(|&(v3, _)| !(v3 && case.drive == Drive::Omega1Der))
+                .filter(|&(_, elastic)| !(elastic && case.h_fixed > 5e-5))
                 .collect();
             // The runs of the versions alternated, so that a change of the machine's load
             // hits both alike.
