@@ -690,3 +690,34 @@ fn real_time_mode_starts_the_elastic_contact_from_rest() {
         assert!((f.fn_ - a.fn_).abs() < 0.02 * a.fn_);
     }
 }
+
+/// An overload that holds at the start state (static equilibrium under 6000 N m: a
+/// deflection of some 6e-4 m, six times the limit) is reported by the first doStep, once,
+/// at the start time; with `discard` that doStep returns the violation at t = 0.
+#[test]
+fn overload_at_the_start_state_is_reported_by_the_first_do_step() {
+    use geared_rotor::sim::{SimError, ViolationKind};
+    let p = elastic(Params::default());
+    let w = 1000.0 * PI / 30.0;
+    let mut s = sim(p, 1e-6, w, 6000.0);
+    s.set_on_violation(OnViolation::Warn);
+    let mut seen = Vec::new();
+    for k in 0..20 {
+        let rep = s.do_step(k as f64 * 1e-4, 1e-4).unwrap();
+        seen.extend(rep.violations.iter().flatten().copied());
+    }
+    println!("{seen:?}");
+    assert_eq!(seen.len(), 1);
+    assert_eq!(
+        (seen[0].kind, seen[0].t),
+        (ViolationKind::ToothOverload, 0.0)
+    );
+    assert!(seen[0].value > 5.0 * 0.05 * p.gear.m_n);
+    let mut s = sim(p, 1e-6, w, 6000.0);
+    match s.do_step(0.0, 1e-4) {
+        Err(SimError::Validity(v)) => {
+            assert_eq!((v.kind, v.t), (ViolationKind::ToothOverload, 0.0))
+        }
+        r => panic!("{r:?}"),
+    }
+}

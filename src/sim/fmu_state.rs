@@ -285,6 +285,12 @@ impl SimState {
         }
         init.y0 = y0;
         let bits = r.u32("validity flags")?;
+        if bits >= 1 << 7 {
+            return Err(DecodeError {
+                message: format!("validity flags {bits:#x} use undefined bits"),
+            }
+            .into());
+        }
         let validity = Monitor::from_bits(bits, r.finite("validity check time")?);
         let stick = r.bool("stick flag")?;
         let released = r.finite("release sense")?;

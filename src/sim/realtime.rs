@@ -138,7 +138,10 @@ impl Simulation {
         self.inputs_ref = *self.problem.model.inputs();
         self.der_set = [false; 2];
         // Validity (validity.rs) as in the adaptive mode: conditions of the start state.
-        if self.validity.pending_lift_off || self.validity.pending_reversal {
+        if self.validity.pending_lift_off
+            || self.validity.pending_reversal
+            || self.validity.pending_overload
+        {
             self.start_violations(&mut report)?;
         }
         let slack = super::comm_tolerance(t_end, t_end - t);

@@ -135,7 +135,10 @@ impl Simulation {
         let horizon = if lookahead { NO_STOP } else { t_end };
         // Validity (validity.rs): conditions of the start state, then the end of a
         // look-ahead step of the last interval before the next step replaces its polynomial.
-        if self.validity.pending_lift_off || self.validity.pending_reversal {
+        if self.validity.pending_lift_off
+            || self.validity.pending_reversal
+            || self.validity.pending_overload
+        {
             self.start_violations(&mut report)?;
         }
         let ts = self.solver.t();

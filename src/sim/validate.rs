@@ -127,6 +127,13 @@ impl SimState {
             }
         }
         let (t, y) = (self.solver.t(), self.solver.y());
+        if self.model.contact().has_multiplier() && y[idx::E_MESH_DAMP] != 0.0 {
+            // Rigid teeth have no mesh damping: the slot stays 0 (and out of the norms).
+            return Err(refuse(format!(
+                "mesh damping energy {} with rigid teeth (must be 0)",
+                Short(y[idx::E_MESH_DAMP])
+            )));
+        }
         if !self.model.contact().has_multiplier() {
             // No constraint with the elastic contact (model.md §3.5): the model must only
             // evaluate the state.

@@ -122,7 +122,7 @@ impl fmt::Display for Violation {
                 "tooth overload at t = {t} s: the elastic teeth overlap by more than m_n/20 ({v:.6e} m at \
                  t = {ts} s). That is several times the load any gear rating allows; the linear mesh stiffness \
                  of ISO 6336-1 no longer holds there and real teeth would break, so the results from this \
-                 instant on are outside the model's validity (reported once per episode; on_lift_off = \
+                 instant on are outside the model's validity (reported once per run; on_lift_off = \
                  discard stops the step here)"
             ),
         }
@@ -343,7 +343,15 @@ impl Simulation {
         self.validity.pending_lift_off = false;
         self.validity.pending_reversal = false;
         self.validity.pending_overload = false;
-        self.emit(found, report)
+        let overload_found = found[2].is_some();
+        let r = self.emit(found, report);
+        // (As in `check_validity`: an overload that Discard did not report stays pending.)
+        if overload_found
+            && matches!(&r, Err(SimError::Validity(v)) if v.kind != ViolationKind::ToothOverload)
+        {
+            self.validity.pending_overload = true;
+        }
+        r
     }
 
     /// Checks the state `y` at `th` (a step end not after the FMU time being stepped to, or
@@ -415,7 +423,16 @@ impl Simulation {
         self.validity.lift_off = now[1];
         self.validity.overload = now[2];
         self.validity.t_checked = th;
-        self.emit(found, report)
+        let overload_found = found[2].is_some();
+        let r = self.emit(found, report);
+        // An overload is reported once per run: when Discard stopped at an earlier
+        // violation of the same step, it is not latched, so that it is found again.
+        if overload_found
+            && matches!(&r, Err(SimError::Validity(v)) if v.kind != ViolationKind::ToothOverload)
+        {
+            self.validity.overload = false;
+        }
+        r
     }
 
     /// Warn: adds the violations to the report. Discard: stops at the earliest one (FMU

@@ -163,7 +163,7 @@ impl GearedRotor {
         let col = jac.column(lam_i).into_owned();
         jac.column_mut(lam_i).fill(0.0);
         add_force_columns(jac, &col, &grads.d_fn);
-        // The last slot's rate is p_spring; E_damp's gains p_damp (§3.5).
+        // The last slot's rate is p_spring; E_MESH_DAMP's is p_damp (§3.5).
         jac.row_mut(lam_i).copy_from(&grads.d_p_spring.transpose());
         let mut r = jac.row_mut(idx::E_MESH_DAMP);
         r += grads.d_p_damp.transpose();
