@@ -320,15 +320,7 @@ impl GearedRotor {
         // One contact length per f: the friction evaluation's (`elastic_friction`); no
         // stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
         let (elastic, lam, fr) = if self.elastic.is_some() {
-            let (c, fr) = match self.elastic_friction(t, y, &m) {
-                // No drive line active (a vibration that moves the centres far): l = 0, so
-                // Fn = l q = 0 and there is no friction to evaluate.
-                Err(ModelError::NoContact { .. }) => (
-                    self.elastic_contact(y, &m),
-                    crate::gear::Friction::default(),
-                ),
-                r => r?,
-            };
+            let (c, fr) = self.elastic_friction(t, y, &m)?;
             (Some(c), c.fn_, fr)
         } else {
             let lam = y[idx::LAMBDA];

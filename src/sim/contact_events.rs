@@ -29,6 +29,9 @@ pub enum Flank {
     Coast,
 }
 
+/// The contact event functions at a state: (t, y, `[phi, phi_c]`).
+pub(super) type EventValues = (f64, SVector<f64, NY>, [f64; 2]);
+
 /// 0 for the drive, 1 for the coast flanks (the order of the event functions).
 fn flank_index(f: Flank) -> usize {
     usize::from(f == Flank::Coast)
@@ -156,10 +159,24 @@ impl Simulation {
         // hair short of a crossing (phi = -0.0) must still count as before it, and the new
         // polynomial's value there may round to the other side.
         let (y_p, y_n) = (self.solver.y_prev(), self.solver.y());
-        let (Some(e_n), Some(e_p)) = (
-            contact.event_functions(tn, y_n),
-            contact.event_functions(tp, y_p),
-        ) else {
+        // The start values are the last step's end values, unless the stepper was moved
+        // (a retake, a restart, a restored state): the cache is keyed by the exact state.
+        let e_p = match self.event_values.get() {
+            Some((t, y, e))
+                if t == tp
+                    && y.iter()
+                        .zip(y_p.iter())
+                        .all(|(a, b)| a.to_bits() == b.to_bits()) =>
+            {
+                Some(e)
+            }
+            _ => contact.event_functions(tp, y_p),
+        };
+        let e_n = contact.event_functions(tn, y_n);
+        if let Some(e) = e_n {
+            self.event_values.set(Some((tn, *y_n, e)));
+        }
+        let (Some(e_n), Some(e_p)) = (e_n, e_p) else {
             return out;
         };
         for (k, flank) in [Flank::Drive, Flank::Coast].into_iter().enumerate() {

@@ -90,6 +90,7 @@ impl Simulation {
             self.validity = s.validity;
             self.h_fixed = s.h_fixed;
             self.impacts = s.impacts;
+            self.event_values.set(None);
         } else {
             *self = Simulation::from_state(s)?;
         }
@@ -131,6 +132,7 @@ impl Simulation {
             max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
             h_fixed: s.h_fixed,
             impacts: s.impacts,
+            event_values: std::cell::Cell::new(None),
         };
         sim.set_comm(s.t_comm);
         Ok(sim)

@@ -89,6 +89,10 @@ pub struct Simulation {
     h_fixed: f64,
     /// Contact onsets of the elastic flanks so far (`contact_events`; output `impacts`).
     impacts: u64,
+    /// The contact event functions at the end of the last step looked at (t, y, values):
+    /// the next step starts there, so its start values need no second evaluation
+    /// (`contact_events`). A pure cache, keyed by the exact state.
+    event_values: std::cell::Cell<Option<contact_events::EventValues>>,
 }
 
 impl Simulation {
@@ -189,6 +193,7 @@ impl Simulation {
             max_internal_steps: DEFAULT_MAX_INTERNAL_STEPS,
             h_fixed: 0.0,
             impacts: 0,
+            event_values: std::cell::Cell::new(None),
         })
     }
 

@@ -343,15 +343,7 @@ impl Simulation {
         self.validity.pending_lift_off = false;
         self.validity.pending_reversal = false;
         self.validity.pending_overload = false;
-        let overload_found = found[2].is_some();
-        let r = self.emit(found, report);
-        // (As in `check_validity`: an overload that Discard did not report stays pending.)
-        if overload_found
-            && matches!(&r, Err(SimError::Validity(v)) if v.kind != ViolationKind::ToothOverload)
-        {
-            self.validity.pending_overload = true;
-        }
-        r
+        self.emit(found, report)
     }
 
     /// Checks the state `y` at `th` (a step end not after the FMU time being stepped to, or
@@ -423,16 +415,7 @@ impl Simulation {
         self.validity.lift_off = now[1];
         self.validity.overload = now[2];
         self.validity.t_checked = th;
-        let overload_found = found[2].is_some();
-        let r = self.emit(found, report);
-        // An overload is reported once per run: when Discard stopped at an earlier
-        // violation of the same step, it is not latched, so that it is found again.
-        if overload_found
-            && matches!(&r, Err(SimError::Validity(v)) if v.kind != ViolationKind::ToothOverload)
-        {
-            self.validity.overload = false;
-        }
-        r
+        self.emit(found, report)
     }
 
     /// Warn: adds the violations to the report. Discard: stops at the earliest one (FMU
@@ -443,6 +426,7 @@ impl Simulation {
         report: &mut super::StepReport,
     ) -> Result<(), SimError> {
         let mut first: Option<Violation> = None;
+        let overload = found[2].is_some();
         for v in found.into_iter().flatten() {
             if first.is_none_or(|f| v.t < f.t) {
                 first = Some(v);
@@ -457,6 +441,12 @@ impl Simulation {
         }
         match (self.validity.policy, first) {
             (OnViolation::Discard, Some(v)) => {
+                if overload && v.kind != ViolationKind::ToothOverload {
+                    // Reported once per run, so it must not be latched unreported: the
+                    // check after this stop finds it again (located from there on).
+                    self.validity.overload = false;
+                    self.validity.pending_overload = false;
+                }
                 if v.t < self.t_comm || v.t > self.solver.t() {
                     // Not expected: the instant is located within [t_checked, th], and the
                     // FMU time is still the doStep's start here; keep the state then.

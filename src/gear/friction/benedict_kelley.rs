@@ -35,6 +35,7 @@
 //! No allocation.
 
 use super::ehl::batch_math;
+use super::ehl::quadrature::Acc;
 use super::ehl::rules::{GL8_W, GL8_X};
 use super::LineIntegrals;
 
@@ -264,32 +265,6 @@ impl BkLine {
             acc.w += wg * r2[i];
             acc.mu += wg * r[i];
         }
-    }
-}
-
-/// Running sums of one segment (`iy`, `ky` still without the factor y).
-#[derive(Default)]
-struct Acc {
-    ix: f64,
-    iy: f64,
-    kx: f64,
-    ky: f64,
-    w: f64,
-    mu: f64,
-}
-
-impl Acc {
-    fn finish(&self, y: f64) -> (LineIntegrals, f64) {
-        (
-            LineIntegrals {
-                ix: self.ix,
-                iy: y * self.iy,
-                kx: self.kx,
-                ky: y * self.ky,
-                w: self.w,
-            },
-            self.mu,
-        )
     }
 }
 

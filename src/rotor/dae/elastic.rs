@@ -124,8 +124,11 @@ impl GearedRotor {
     /// three per f). The same values as [`GearedRotor::elastic_contact`] followed by
     /// [`GearedRotor::friction`] at its Fn and `FrictionSums::resultants`.
     ///
+    /// Without a drive force (free flight, or no drive line active: l = 0, so Fn = l q = 0)
+    /// there is no friction and no contact line is needed.
+    ///
     /// # Errors
-    /// [`ModelError::NoContact`] when l = 0.
+    /// Non-finite friction terms of the friction evaluation.
     pub(crate) fn elastic_friction(
         &self,
         t: f64,
@@ -140,12 +143,17 @@ impl GearedRotor {
             return Ok((self.flank_contact(y, m, self.g0, 0.0), Friction::default()));
         }
         let mut c = ElasticContact::default();
-        let (sums, mu, fn_) =
-            self.friction_for_load(t, y, m, Asker::Integrator, self.stick, |length| {
-                c = self.flank_contact(y, m, self.g0, length);
-                c.fn_
-            })?;
-        Ok((c, sums.resultants(mu, fn_)))
+        match self.friction_for_load(t, y, m, Asker::Integrator, self.stick, |length| {
+            c = self.flank_contact(y, m, self.g0, length);
+            c.fn_
+        }) {
+            Ok((sums, mu, fn_)) => Ok((c, sums.resultants(mu, fn_))),
+            // No drive line active (a vibration that moves the centres far): l = 0.
+            Err(ModelError::NoContact { .. }) => {
+                Ok((self.flank_contact(y, m, self.g0, 0.0), Friction::default()))
+            }
+            Err(e) => Err(e),
+        }
     }
 
     /// The elastic contact at y (mesh `m`, gap offset `g0`) with its contact length given.

@@ -190,17 +190,33 @@ struct Line<'a> {
     sigma0: f64,
 }
 
+/// Running sums of one segment's integrals (`iy`, `ky` still without the factor y), shared
+/// by the quadratures of laws 4 and 5 (`benedict_kelley`).
 #[derive(Default)]
-struct Acc {
-    ix: f64,
-    iy: f64,
-    kx: f64,
-    ky: f64,
-    w: f64,
-    mu: f64,
+pub(in crate::gear::friction) struct Acc {
+    pub ix: f64,
+    pub iy: f64,
+    pub kx: f64,
+    pub ky: f64,
+    pub w: f64,
+    pub mu: f64,
 }
 
 impl Acc {
+    /// The integrals of the segment with the factor y applied, and `int mu ds`.
+    pub fn finish(&self, y: f64) -> (LineIntegrals, f64) {
+        (
+            LineIntegrals {
+                ix: self.ix,
+                iy: y * self.iy,
+                kx: self.kx,
+                ky: y * self.ky,
+                w: self.w,
+            },
+            self.mu,
+        )
+    }
+
     /// Adds the node s with the quadrature weight `wm = weight * mu(s)`, x = x(s), r = r(s).
     #[inline]
     fn add(&mut self, s: f64, x: f64, r: f64, wm: f64) {
@@ -239,16 +255,7 @@ pub(super) fn segment(
     } else {
         line.piece(&mut acc, 0.0, len, root);
     }
-    (
-        LineIntegrals {
-            ix: acc.ix,
-            iy: y * acc.iy,
-            kx: acc.kx,
-            ky: y * acc.ky,
-            w: acc.w,
-        },
-        acc.mu,
-    )
+    acc.finish(y)
 }
 
 impl Line<'_> {
