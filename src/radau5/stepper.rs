@@ -394,6 +394,22 @@ impl<const N: usize> Radau5<N> {
         Ok(Retake::Interpolated)
     }
 
+    /// The caller stopped on a point where the problem's Jacobian jumps (a kink of f, or a
+    /// jump the caller has just refreshed f across): the Newton convergence rate measured
+    /// before it (`FACCON`, docs/radau5.md §4) says nothing about the iteration after it.
+    /// Resets it to its value at the start, so that the next step accepts no iterate on
+    /// that rate alone: it iterates at least until it has measured its own contraction.
+    /// J, the LU pair, h and the controller history are kept.
+    ///
+    /// Why: with a rate of ~1e-3 from the smooth part, FACCON ||dW|| <= kappa accepts the
+    /// first iterate of a step whose increment is up to ~30 tolerances, and across a kink
+    /// the old J makes that iterate wrong by a fraction of the increment, which the error
+    /// estimate (5.1) does not see (it measures the collocation polynomial against f at
+    /// the start, not the unsolved collocation equations).
+    pub fn forget_convergence_rate(&mut self) {
+        self.st.faccon = 1.0;
+    }
+
     /// Co-simulation: starts a new budget of `max_steps` step attempts. The budget is
     /// otherwise renewed only when a stop time is reached, which a caller that steps with a
     /// far stop time (and interpolates the dense output) may never do.

@@ -29,6 +29,10 @@
 //! the step count: 3.6 internal steps per doStep of about the same cost each, as every
 //! doStep must end on its communication point (the input changes there).
 //!
+//! Since a step after a mesh-event stop measures its own Newton rate (accuracy, docs/fmu.md
+//! "Mesh events"): 21.6 f, 0.20 Jacobians, 1.92 LU pairs per doStep (rigid, the `omega1`
+//! case).
+//!
 //! At H = 1e-5 s (one internal step per doStep either way) event stops cost more than they
 //! save (f 5.65 -> 5.85, LU pairs 0.035 -> 0.22 per doStep), hence the threshold; the equal
 //! steps change nothing there (5.63 f, 0.022 LU pairs).

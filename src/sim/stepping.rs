@@ -175,6 +175,9 @@ impl Simulation {
             let r = self.solver.step(&mut self.problem, target).and_then(|tn| {
                 if use_events && at_event && tn == target {
                     if !self.sticks_at_landing() {
+                        // J jumps here (f has a kink, or a jump for spur pairs): the next
+                        // step measures its Newton rate anew (docs/fmu.md "Mesh events").
+                        self.solver.forget_convergence_rate();
                         self.f_after_event()?;
                     } else if tn <= t_end {
                         self.enter_mode(true)?;
