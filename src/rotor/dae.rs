@@ -317,15 +317,19 @@ impl GearedRotor {
         let m = self.mesh_for_f(t, y)?;
         // Elastic contact (§3.5): the normal force from the approach of the flanks; the
         // last slot of y is the work stored in the mesh spring, not a multiplier.
-        // One contact length per f: the friction evaluation's (`elastic_friction`); no
-        // stick in the elastic contact (`stick_possible`): the sliding friction at Fn.
-        let (elastic, lam, fr) = if self.elastic.is_some() {
-            let (c, fr) = self.elastic_friction(t, y, &m)?;
-            (Some(c), c.fn_, fr)
+        // One contact length per f: the friction evaluation's (`elastic_friction`).
+        let (elastic, lam, mut fr, stuck) = if self.elastic.is_some() {
+            let (c, fr, stuck) = self.elastic_friction(t, y, &m)?;
+            (Some(c), c.fn_, fr, stuck)
         } else {
             let lam = y[idx::LAMBDA];
             let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
-            (None, lam, self.friction_resultants(t, y, &m, &sums, mu))
+            (
+                None,
+                lam,
+                self.friction_resultants(t, y, &m, &sums, mu),
+                None,
+            )
         };
         let grow = g.constraint_row(&m);
         let v = idx::V;
@@ -333,18 +337,23 @@ impl GearedRotor {
         let omega1_dot = y[idx::OMEGA1_DOT];
         let omega2 = y[v + 6];
         let t_load = self.inputs.t_load_at(t);
-        let mut qf = fr.generalised();
         // The coast flanks (§3.6): their normal force and friction, zero while apart.
         // While the drive flanks carry the load they are apart (`coast_surely_apart`).
         let coast = if elastic.is_some_and(|c| !self.coast_surely_apart(&c, &m)) {
-            let c = self.coast_terms(t, y, &m)?;
-            for (a, b) in qf.iter_mut().zip(c.q.iter()) {
-                *a += b;
-            }
-            c
+            self.coast_terms(t, y, &m)?
         } else {
             coast::CoastTerms::default()
         };
+        // A stuck drive line (elastic teeth, §4.1): its force holds it against all others.
+        if let Some(st) = &stuck {
+            self.add_stick_force(t, y, &m, st, lam, &coast.q, &mut fr);
+        }
+        let mut qf = fr.generalised();
+        if elastic.is_some() {
+            for (a, b) in qf.iter_mut().zip(coast.q.iter()) {
+                *a += b;
+            }
+        }
         let mut p_damp = 0.0;
         let mut gv = 0.0;
         for i in 0..6 {
@@ -1025,7 +1034,16 @@ impl GearedRotor {
                 return o;
             }
         };
-        let fr = self.friction_resultants(t, y, &m, &sums, mu);
+        let fr = match &sums.stuck {
+            // A stuck drive line of elastic teeth: held against the coast flanks' forces too.
+            Some(st) if self.elastic.is_some() => {
+                let mut fr = sums.resultants(mu, lam);
+                let other = self.coast_terms(t, y, &m).map_or([f64::NAN; 7], |c| c.q);
+                self.add_stick_force(t, y, &m, st, lam, &other, &mut fr);
+                fr
+            }
+            _ => self.friction_resultants(t, y, &m, &sums, mu),
+        };
         if self.elastic.is_some() {
             let c = self.elastic_contact(y, &m);
             o.mesh_deflection = c.delta;

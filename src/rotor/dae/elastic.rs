@@ -5,7 +5,7 @@
 
 use super::friction::Asker;
 use super::GearedRotor;
-use crate::gear::{stiffness, Friction, Mesh, PairGeometry};
+use crate::gear::{stiffness, Friction, Mesh, PairGeometry, StuckLine};
 use crate::rotor::{idx, ModelError, NY};
 use nalgebra::{SVector, Vector3};
 
@@ -127,6 +127,10 @@ impl GearedRotor {
     /// Without a drive force (free flight, or no drive line active: l = 0, so Fn = l q = 0)
     /// there is no friction and no contact line is needed.
     ///
+    /// In the stick mode the stuck line is left out of the resultants and returned: its
+    /// force (4.13) needs every other force, the coast flanks' too
+    /// (`GearedRotor::add_stick_force`).
+    ///
     /// # Errors
     /// Non-finite friction terms of the friction evaluation.
     pub(crate) fn elastic_friction(
@@ -134,24 +138,30 @@ impl GearedRotor {
         t: f64,
         y: &SVector<f64, NY>,
         m: &Mesh,
-    ) -> Result<(ElasticContact, Friction), ModelError> {
+    ) -> Result<(ElasticContact, Friction, Option<StuckLine>), ModelError> {
         // Free flight (delta <= 0): no force, no friction, and f needs neither the contact
         // length nor the friction sums (a quarter of a rattle's instructions). The
         // contact's `length` and `stiffness` are then 0: not evaluated.
         let g = &self.geom;
         if !(-g.cos_beta_b * (g.gap_raw(m, y[idx::Q + 6]) + self.g0) > 0.0) {
-            return Ok((self.flank_contact(y, m, self.g0, 0.0), Friction::default()));
+            return Ok((
+                self.flank_contact(y, m, self.g0, 0.0),
+                Friction::default(),
+                None,
+            ));
         }
         let mut c = ElasticContact::default();
         match self.friction_for_load(t, y, m, Asker::Integrator, self.stick, |length| {
             c = self.flank_contact(y, m, self.g0, length);
             c.fn_
         }) {
-            Ok((sums, mu, fn_)) => Ok((c, sums.resultants(mu, fn_))),
+            Ok((sums, mu, fn_)) => Ok((c, sums.resultants(mu, fn_), sums.stuck)),
             // No drive line active (a vibration that moves the centres far): l = 0.
-            Err(ModelError::NoContact { .. }) => {
-                Ok((self.flank_contact(y, m, self.g0, 0.0), Friction::default()))
-            }
+            Err(ModelError::NoContact { .. }) => Ok((
+                self.flank_contact(y, m, self.g0, 0.0),
+                Friction::default(),
+                None,
+            )),
             Err(e) => Err(e),
         }
     }

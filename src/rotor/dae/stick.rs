@@ -16,6 +16,12 @@
 //! accelerations of q: the turning of e_w and the motion of the line along the line of
 //! action (positions moving at fixed velocities), `sigma0 omega1'` and the relaxation.
 //! The line sticks while `|F_w| <= mu |lambda| L_k / l` (its share of the normal force).
+//!
+//! Rigid teeth: lambda itself depends on `F_w` (the hidden constraint), so the two are
+//! solved together (`consistent_lambda_mode` in the stick mode). Elastic teeth (§3.5): the
+//! normal force `Fn` is a function of positions and velocities, `Fn G^T` and the coast
+//! flanks' forces are parts of `F` like the springs, and (4.13) is explicit. Only the drive
+//! flanks' lines stick; a spur coast contact slides through its pitch line.
 
 use super::{kinematics, GearedRotor};
 use crate::gear::contact_lines::reduce;
@@ -53,11 +59,10 @@ pub(crate) struct StickRow {
 impl GearedRotor {
     /// Whether a contact line can stick at all: a spur pair (the sliding is then the same
     /// along a line) with a law whose force jumps at zero sliding (laws 1 and 3) and
-    /// friction (law 1: mu > 0).
+    /// friction (law 1: mu > 0); rigid or elastic teeth (the drive flanks).
     pub fn stick_possible(&self) -> bool {
         let law = self.params.friction_law;
         self.geom.tan_beta_b == 0.0
-            && self.params.tooth_contact == crate::rotor::ToothContact::Rigid
             && law.sharp_reversal()
             && (law != FrictionLaw::Coulomb || self.params.mu > 0.0)
     }
@@ -150,18 +155,19 @@ impl GearedRotor {
         StickRow { w, a_w, free }
     }
 
-    /// The stick force `F_w` of (4.13) at y (its lambda), given the friction of the other
-    /// lines `rest` (generalised, as in f).
+    /// The stick force `F_w` of (4.13) at y with the normal force `lam` (rigid teeth: y's
+    /// lambda; elastic: Fn of y), given the friction of the other lines and any other
+    /// contact force `rest` (generalised, as in f).
     pub(crate) fn stick_force(
         &self,
         t: f64,
         y: &SVector<f64, NY>,
         row: &StickRow,
+        lam: f64,
         grow: &[f64; 7],
         rest: &[f64; 7],
     ) -> f64 {
         let v = idx::V;
-        let lam = y[idx::LAMBDA];
         let mut wf = 0.0;
         for i in 0..7 {
             let mut f = -self.damp[i] * y[v + i] - self.stiff[i] * y[i] + lam * grow[i] + rest[i];
@@ -198,18 +204,39 @@ impl GearedRotor {
         let lam = y[idx::LAMBDA];
         let mut fr = sums.resultants(mu, lam);
         if let Some(st) = &sums.stuck {
-            let action = st.action(m, &self.geom);
-            let row = self.stick_row_with(y, m, st, &action);
-            let grow = self.geom.constraint_row(m);
-            let rest = fr.generalised();
-            let f_w = self.stick_force(t, y, &row, &grow, &rest);
-            Self::add_stick(&mut fr, st, &action, f_w);
+            self.add_stick_force(t, y, m, st, lam, &[0.0; 7], &mut fr);
         }
         fr
     }
 
+    /// Adds to `fr`, the friction of the sliding lines at the normal force `lam`, the stick
+    /// force (4.13) of the stuck line `st`, with `other` the generalised forces of any
+    /// other contact (the coast flanks of elastic teeth).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn add_stick_force(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        st: &StuckLine,
+        lam: f64,
+        other: &[f64; 7],
+        fr: &mut Friction,
+    ) {
+        let action = st.action(m, &self.geom);
+        let row = self.stick_row_with(y, m, st, &action);
+        let grow = self.geom.constraint_row(m);
+        let mut rest = fr.generalised();
+        for (r, o) in rest.iter_mut().zip(other) {
+            *r += o;
+        }
+        let f_w = self.stick_force(t, y, &row, lam, &grow, &rest);
+        Self::add_stick(fr, st, &action, f_w);
+    }
+
     /// How far the stuck line is from slipping at y, in N: `mu |lambda| L_k / l - |F_w|`
-    /// with lambda from the hidden constraint (as the outputs report it); negative once the
+    /// with lambda from the hidden constraint (as the outputs report it; elastic teeth: Fn
+    /// of y); negative once the
     /// force needed exceeds what friction can give, or when no line is near zero sliding
     /// (the stuck line left the contact). Evaluated as if the mode were stick, whatever
     /// [`GearedRotor::stick`] is: at a reversal of the sliding it says whether the line
@@ -225,29 +252,32 @@ impl GearedRotor {
         }
         let m = self.mesh(t, y).ok()?;
         let mut z = *y;
-        z[idx::LAMBDA] = self.consistent_lambda_mode(t, y, &m, true).ok()?;
+        // The normal force and the other contact's forces: the coast flanks' (elastic).
+        let (lam, other) = if self.elastic.is_some() {
+            let c = self.elastic_contact(y, &m);
+            (c.fn_, self.coast_terms(t, y, &m).ok()?.q)
+        } else {
+            z[idx::LAMBDA] = self.consistent_lambda_mode(t, y, &m, true).ok()?;
+            (z[idx::LAMBDA], [0.0; 7])
+        };
         let (sums, mu) = self
-            .friction_mode(
-                t,
-                &z,
-                &m,
-                z[idx::LAMBDA],
-                super::friction::Asker::Point,
-                true,
-            )
+            .friction_mode(t, &z, &m, lam, super::friction::Asker::Point, true)
             .ok()?;
         let st = sums.stuck?;
         let row = self.stick_row(&z, &m, &st);
         let grow = self.geom.constraint_row(&m);
-        let rest = sums.resultants(mu, z[idx::LAMBDA]).generalised();
-        let f_w = self.stick_force(t, &z, &row, &grow, &rest);
+        let mut rest = sums.resultants(mu, lam).generalised();
+        for (r, o) in rest.iter_mut().zip(&other) {
+            *r += o;
+        }
+        let f_w = self.stick_force(t, &z, &row, lam, &grow, &rest);
         // A line whose sliding is more than a thousandth of the rolling speed across a base
         // pitch from zero is not the stuck one (the stuck line left the contact).
         let far = 1e-3 * (z[idx::OMEGA1] + z[idx::V + 6]).abs() * self.geom.p_bt;
         if !(st.x0.abs() <= far) {
             return Some((-1.0, f_w));
         }
-        let share = z[idx::LAMBDA].abs() * st.length / sums.contact.length;
+        let share = lam.abs() * st.length / sums.contact.length;
         Some((mu * share - f_w.abs(), f_w))
     }
 
