@@ -718,8 +718,9 @@ impl GearedRotor {
     /// The consistent state at t for the centre displacements, velocities and phi1 of `ic`
     /// (`model.md` §3.3, §7, §8): the filter at rest at omega1_ref(t), xi from the
     /// position-level constraint g = 0 with the model's gap offset g0, omega2 from the
-    /// velocity-level constraint (5.2), energies 0, lambda from the hidden constraint. The
-    /// one place that builds a state from (u, u'): the initial state, the periodic
+    /// velocity-level constraint (5.2), energies 0, the last slot as the contact starts it
+    /// (`Contact::start_value`: lambda from the hidden constraint, or the springs' energy).
+    /// The one place that builds a state from (u, u'): the initial state, the periodic
     /// solutions and the static equilibrium start use it.
     ///
     /// # Errors
