@@ -157,7 +157,9 @@ impl Balance<'_> {
         let mut y = SVector::<f64, NY>::zeros();
         let mut f = SVector::<f64, NY>::zeros();
         let mut model = model.clone();
-        let elastic = model.is_elastic();
+        // The eighth equation: the constraint g = 0 where the force is its multiplier,
+        // else the force's own law.
+        let multiplier = model.contact().has_multiplier();
         for j in 0..self.nodes {
             let t = self.sys.period() * j as f64 / self.nodes as f64;
             let (v, dv, ddv) = eval_series(&c, self.n, w, t);
@@ -183,7 +185,9 @@ impl Balance<'_> {
                 time[(j, i)] = (self.mass[i] * acc - f[idx::V + i]) / scale;
             }
             let mesh = model.mesh(t, &y)?;
-            time[(j, 7)] = if elastic {
+            time[(j, 7)] = if multiplier {
+                (g.gap_raw(&mesh, v[6]) + model.gap_offset()) / self.signal_scale[6]
+            } else {
                 // Elastic contact (§3.5): the eighth signal is the normal force Fn (3.16),
                 // a function of the state; its residual is Fn(state) - signal.
                 let fn_ = model
@@ -193,8 +197,6 @@ impl Balance<'_> {
                     })?
                     .fn_;
                 (fn_ - v[7]) / self.signal_scale[7]
-            } else {
-                (g.gap_raw(&mesh, v[6]) + model.gap_offset()) / self.signal_scale[6]
             };
         }
         // Projection onto 1, 2 cos, 2 sin (the DFT; exact collocation for N = 2n + 1).

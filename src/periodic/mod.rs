@@ -335,11 +335,8 @@ impl PeriodicSystem {
         let options = self.options(rtol, periods);
         // The elastic normal force is a function of the state, evaluated on a copy of the
         // model (the solver holds the problem).
-        let fn_model = self
-            .problem
-            .model
-            .is_elastic()
-            .then(|| self.problem.model.clone());
+        let fn_model =
+            (!self.problem.model.contact().has_multiplier()).then(|| self.problem.model.clone());
         let mut solver = Radau5::new(&mut self.problem, options, 0.0, y0)?;
         let t_end = periods as f64 * self.period;
         let t_last = t_end - self.period;
@@ -366,7 +363,7 @@ impl PeriodicSystem {
                             *ui = y[idx::Q + i];
                         }
                         let lambda = match &fn_model {
-                            Some(m) => m.elastic_contact_at(ts, &y).map_or(f64::NAN, |c| c.fn_),
+                            Some(m) => m.contact().normal_force(ts, &y),
                             None => y[idx::LAMBDA],
                         };
                         out.push(OrbitPoint {
@@ -388,10 +385,11 @@ impl PeriodicSystem {
         Ok((*solver.y(), *solver.stats()))
     }
 
-    /// Whether the tooth contact is elastic (`model.md` §3.5): the periodic state then has
-    /// 14 components ([`elastic`]).
+    /// Whether the tooth contact is elastic (`model.md` §3.5): its mesh coordinates are
+    /// free (`Contact::mesh_coordinates_free`), so the periodic state has 14 components
+    /// ([`elastic`]) instead of the 12 of the centres.
     pub fn is_elastic(&self) -> bool {
-        self.model().is_elastic()
+        self.model().contact().mesh_coordinates_free()
     }
 
     /// A typed refusal of the rigid-only parts (`what`) in elastic mode.

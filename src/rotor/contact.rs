@@ -17,12 +17,30 @@
 //!   The onsets and separations of the drive and the coast flanks are state events.
 //!
 //! The layout of y is shared (23 components; the last slot `idx::LAMBDA` means what
-//! [`Contact::last_slot`] says; `idx::E_MESH_DAMP` stays 0 with rigid teeth, and the
-//! solver leaves it out of its norms there) and the solver structure and scales are kept
-//! where they are (`rotor::dae_structure`, `GearedRotor::scales`); the simulation layer
-//! (`sim`) asks here instead of reading the last slot or branching on the contact.
+//! [`Contact::last_slot`] says; `idx::E_MESH_DAMP` stays 0 with rigid teeth). What differs
+//! is answered here, and the rest asks:
+//! - the solver structure (`rotor::dae_structure`): the index counts and whether the last
+//!   slot is a quadrature ([`LastSlot::index_counts`], [`LastSlot::is_quadrature`]), how
+//!   many components the solver's norms count ([`ToothContact::norm_count`]). These
+//!   depend on the kind alone, so they are answered by [`LastSlot`] and [`ToothContact`]
+//!   (the solver options are made from the kind, `sim::SolverSettings::options_for`), and
+//!   the view [`Contact`] forwards them;
+//! - the error scale of the last slot, a force or an energy ([`LastSlot::scale`],
+//!   `rotor::error_scales`);
+//! - the consistent state: the last slot at the start ([`Contact::start_value`]) and
+//!   where the stepper restarts ([`Contact::consistent_state`]); the zero row of the mass
+//!   matrix and whether the outputs take the force from the state
+//!   ([`Contact::has_multiplier`]);
+//! - the normal force, the outputs' state, lift-off, the contact events and the overload
+//!   margin (the validity, `sim`);
+//! - which coordinates of the mesh are free, and so which components a periodic orbit has
+//!   ([`Contact::mesh_coordinates_free`], `periodic`).
+//!
+//! What stays with the model is its physics: f, the Jacobian and the outputs of each
+//! contact (`GearedRotor::rhs`, `dae/elastic.rs`, `dae/coast.rs`).
 
 use super::{idx, GearedRotor, ModelError, ToothContact, NY};
+use crate::gear::Mesh;
 use nalgebra::SVector;
 
 /// What the last slot of y (`idx::LAMBDA`) holds.
@@ -34,6 +52,62 @@ pub enum LastSlot {
     /// Elastic teeth: the work stored in the mesh springs, `E_s' = k delta delta'`, in J (a
     /// quadrature).
     StoredSpringWork,
+}
+
+impl LastSlot {
+    /// RADAU5's counts of index-1 and index-2 components of y, `(n1, n2)`: the multiplier
+    /// is the one index-2 component (the stepper scales its error with h); the stored work
+    /// is differential like the rest (an ODE, `n2 = 0`).
+    pub fn index_counts(self) -> (usize, usize) {
+        match self {
+            LastSlot::Multiplier => (super::N_INDEX1, super::N_INDEX2),
+            LastSlot::StoredSpringWork => (NY, 0),
+        }
+    }
+
+    /// Whether the last slot is a quadrature: the stored work enters no right-hand side
+    /// (radau5 `Options::quadrature`); the multiplier enters those of the velocities.
+    pub fn is_quadrature(self) -> bool {
+        self == LastSlot::StoredSpringWork
+    }
+
+    /// The error scale of the last slot, given the scale of the load (`force`, N) and of
+    /// the energies (`energy`, J): the multiplier is a force, the stored work an energy.
+    pub fn scale(self, force: f64, energy: f64) -> f64 {
+        match self {
+            LastSlot::Multiplier => force,
+            LastSlot::StoredSpringWork => energy,
+        }
+    }
+}
+
+/// The answers that depend on the contact kind alone (the solver options are made from
+/// it); [`Contact`] forwards them for a model.
+impl ToothContact {
+    /// What the last slot of y holds with this contact.
+    pub fn last_slot(self) -> LastSlot {
+        match self {
+            ToothContact::Rigid => LastSlot::Multiplier,
+            ToothContact::Elastic => LastSlot::StoredSpringWork,
+        }
+    }
+
+    /// Whether the teeth have a mesh damping whose energy `idx::E_MESH_DAMP` accumulates:
+    /// the elastic teeth; rigid teeth leave it at 0.
+    pub fn has_mesh_damping(self) -> bool {
+        self == ToothContact::Elastic
+    }
+
+    /// How many components the solver's error and Newton norms average over (radau5
+    /// `Options::norm_count`): all but `idx::E_MESH_DAMP` where it stays 0 (rigid teeth),
+    /// so that the steps are those of the 22 other components.
+    pub fn norm_count(self) -> usize {
+        if self.has_mesh_damping() {
+            NY
+        } else {
+            NY - 1
+        }
+    }
 }
 
 /// The tooth contact of a [`GearedRotor`], asked in physical terms (see the module docs).
@@ -59,10 +133,17 @@ impl Contact<'_> {
 
     /// What the last slot of y holds.
     pub fn last_slot(&self) -> LastSlot {
-        match self.kind() {
-            ToothContact::Rigid => LastSlot::Multiplier,
-            ToothContact::Elastic => LastSlot::StoredSpringWork,
-        }
+        self.kind().last_slot()
+    }
+
+    /// RADAU5's index counts `(n1, n2)` ([`LastSlot::index_counts`]).
+    pub fn index_counts(&self) -> (usize, usize) {
+        self.last_slot().index_counts()
+    }
+
+    /// How many components the solver's norms count ([`ToothContact::norm_count`]).
+    pub fn norm_count(&self) -> usize {
+        self.kind().norm_count()
     }
 
     /// Whether the normal force is a Lagrange multiplier of a constraint (rigid teeth):
@@ -70,6 +151,15 @@ impl Contact<'_> {
     /// only a first guess of the consistent one.
     pub fn has_multiplier(&self) -> bool {
         self.last_slot() == LastSlot::Multiplier
+    }
+
+    /// Whether the mesh's own coordinates, the transmission error xi and omega2, are free
+    /// states (elastic teeth: the flanks approach and part), or fixed by the centres
+    /// through the constraint g = 0 and its velocity form (rigid teeth). A periodic orbit
+    /// has 14 components in the first case, the 12 of the centres in the second
+    /// (`periodic`).
+    pub fn mesh_coordinates_free(&self) -> bool {
+        !self.has_multiplier()
     }
 
     /// Whether the contact can leave the model's validity by lift-off: only rigid teeth,
@@ -84,6 +174,20 @@ impl Contact<'_> {
     /// contact.
     pub fn has_contact_events(&self) -> bool {
         self.kind() == ToothContact::Elastic
+    }
+
+    /// The last slot of y at a start, for y consistent in every other component (`m` its
+    /// mesh): rigid teeth, lambda from the hidden constraint; elastic teeth, the work stored
+    /// in the mesh springs starts as their energy `k delta^2 / 2` (drive and coast flanks).
+    ///
+    /// # Errors
+    /// Rigid teeth: the mesh cannot be evaluated or no consistent lambda exists.
+    pub fn start_value(&self, t: f64, y: &SVector<f64, NY>, m: &Mesh) -> Result<f64, ModelError> {
+        match self.last_slot() {
+            LastSlot::Multiplier => self.model.consistent_lambda(t, y),
+            LastSlot::StoredSpringWork => Ok(self.model.elastic_contact(y, m).energy
+                + self.model.coast_contact_at(t, y).map_or(0.0, |c| c.energy)),
+        }
     }
 
     /// The normal contact force of the drive flanks at (t, y), in N, as the outputs report

@@ -2,7 +2,7 @@
 //! (`model.md` §5-§8).
 
 use super::params::{check_d_phi, check_mu};
-use super::{idx, FrictionLaw, Inputs, ModelError, Outputs, Params, ToothContact, NY};
+use super::{idx, FrictionLaw, Inputs, LastSlot, ModelError, Outputs, Params, ToothContact, NY};
 use crate::gear::{
     FrictionSums, IsoMean, Kinematics, Lubricant, Mesh, MeshError, PairGeometry, ParamError,
 };
@@ -236,10 +236,6 @@ impl GearedRotor {
     /// held now; the initialisation does this (`GearedRotor::initialize_with`).
     pub fn set_scales_for_start(&mut self, t0: f64) {
         self.scales = super::error_scales(self, t0);
-        if self.elastic.is_some() {
-            // The last slot holds an energy (§3.5).
-            self.scales[idx::LAMBDA] = self.scales[idx::E_IN];
-        }
     }
 
     /// Sets the held inputs.
@@ -411,7 +407,8 @@ impl GearedRotor {
         for i in 0..7 {
             m[(idx::V + i, idx::V + i)] = self.mass[i];
         }
-        if self.elastic.is_none() {
+        // The multiplier is algebraic: a zero row.
+        if self.contact().has_multiplier() {
             m[(idx::LAMBDA, idx::LAMBDA)] = 0.0;
         }
         m
@@ -622,7 +619,8 @@ impl GearedRotor {
     /// consistent (see above; r = 0 gives λ = 0).
     pub fn consistent_lambda(&self, t: f64, y: &SVector<f64, NY>) -> Result<f64, ModelError> {
         let m = self.mesh(t, y)?;
-        if self.elastic.is_some() {
+        if !self.contact().has_multiplier() {
+            // The normal force is a function of the state (§3.5).
             return Ok(self.elastic_contact(y, &m).fn_);
         }
         self.consistent_lambda_mode(t, y, &m, self.stick)
@@ -729,8 +727,9 @@ impl GearedRotor {
     /// The consistent state at t for the centre displacements, velocities and phi1 of `ic`
     /// (`model.md` §3.3, §7, §8): the filter at rest at omega1_ref(t), xi from the
     /// position-level constraint g = 0 with the model's gap offset g0, omega2 from the
-    /// velocity-level constraint (5.2), energies 0, lambda from the hidden constraint. The
-    /// one place that builds a state from (u, u'): the initial state, the periodic
+    /// velocity-level constraint (5.2), energies 0, the last slot as the contact starts it
+    /// (`Contact::start_value`: lambda from the hidden constraint, or the springs' energy).
+    /// The one place that builds a state from (u, u'): the initial state, the periodic
     /// solutions and the static equilibrium start use it.
     ///
     /// # Errors
@@ -770,14 +769,7 @@ impl GearedRotor {
         let grow = g.constraint_row(&m);
         let gv: f64 = grow.iter().zip(ic.u_dot.iter()).map(|(a, b)| a * b).sum();
         y[idx::V + 6] = (g.rb1 * g.cos_beta_b * omega1 - gv) / grow[6];
-        y[idx::LAMBDA] = if self.elastic.is_some() {
-            // The work stored in the mesh springs starts as their energy k delta_0^2 / 2
-            // (drive and coast flanks).
-            self.elastic_contact(&y, &m).energy
-                + self.coast_contact_at(t, &y).map_or(0.0, |c| c.energy)
-        } else {
-            self.consistent_lambda(t, &y)?
-        };
+        y[idx::LAMBDA] = self.contact().start_value(t, &y, &m)?;
         Ok(y)
     }
 
@@ -883,7 +875,8 @@ impl GearedRotor {
     /// Every output of `model.md` §6 from the state and the inputs at t. When the mesh
     /// cannot be evaluated the contact quantities are NaN.
     pub fn outputs(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
-        if self.elastic.is_some() {
+        // Without a multiplier the force is the state's: nothing to make consistent.
+        if !self.contact().has_multiplier() {
             return self.outputs_consistent(t, y);
         }
         self.outputs_with(t, y, self.point_friction(t, y))
@@ -905,7 +898,7 @@ impl GearedRotor {
     /// decided ([`GearedRotor::consistent_lambda`]; else the lambda of y), evaluating the
     /// mesh and the friction sums once for both (they do not depend on lambda).
     pub fn outputs_consistent(&self, t: f64, y: &SVector<f64, NY>) -> Outputs {
-        if self.elastic.is_some() {
+        if self.contact().last_slot() == LastSlot::StoredSpringWork {
             // The normal force follows from y's positions and velocities (§3.5).
             let mut z = *y;
             if let Ok(m) = self.mesh(t, y) {

@@ -59,7 +59,7 @@ pub mod idx {
     pub const E_LOAD: usize = 20;
     /// Energy dissipated by the mesh damping of elastic teeth (`model.md` §3.5), E_md' =
     /// `Fn delta' - k delta delta'` of both flanks; 0 for rigid teeth (where it stays out
-    /// of the solver's norms: `rotor::dae_structure`).
+    /// of the solver's norms: `ToothContact::norm_count`).
     pub const E_MESH_DAMP: usize = 21;
     /// Rigid contact: the Lagrange multiplier lambda = normal contact force (index-2
     /// variable). Elastic contact (`model.md` §3.5): the work stored in the mesh spring,

@@ -39,36 +39,31 @@ impl Problem<NY> for RotorProblem {
 
 /// The RADAU5 options that describe the rotor DAE's structure, the one source for the
 /// co-simulation and the periodic solutions (tolerances, h_max and step limits are theirs
-/// to add): index-1 and index-2 counts (lambda); the energies as quadratures (they enter no
-/// right-hand side: zero Jacobian columns and identity rows of `M_ext`, so 18 x 18 instead
-/// of 23 x 23 factorisations, radau5 `Options::quadrature`); `u_i' = v_i` (i < 6)
-/// eliminated from the linear systems, which leaves 12 x 12 LUs (radau5
-/// `Options::second_order`, Fortran IWORK(9..10)).
+/// to add): the index counts of the contact (`contact`); the energies as quadratures (they
+/// enter no right-hand side: zero Jacobian columns and identity rows of `M_ext`, so 18 x 18
+/// instead of 23 x 23 factorisations, radau5 `Options::quadrature`), and the last slot
+/// where the contact makes it one; `u_i' = v_i` (i < 6) eliminated from the linear
+/// systems, which leaves 12 x 12 LUs (radau5 `Options::second_order`, Fortran
+/// IWORK(9..10)); the norm count of the contact.
 ///
-/// With the elastic contact (`model.md` §3.5) there is no constraint: an ODE (`n1 = 23`,
-/// `n2 = 0`), whose last component, the work stored in the mesh spring, is a quadrature;
-/// the mesh damping's energy (`idx::E_MESH_DAMP`) is a quadrature in both, counted in the
-/// solver's norms only with elastic teeth (it is 0 with rigid ones).
+/// What depends on the contact is its answer (`rotor::contact`): rigid teeth, an index-2
+/// DAE whose multiplier lambda is the last slot; elastic teeth (`model.md` §3.5), an ODE
+/// (`n1 = 23`, `n2 = 0`) whose last slot, the work stored in the mesh spring, is a
+/// quadrature; the mesh damping's energy (`idx::E_MESH_DAMP`) is a quadrature in both,
+/// counted in the solver's norms only where the teeth have a mesh damping.
 pub fn dae_structure(contact: ToothContact) -> Options<NY> {
-    let (n1, n2) = match contact {
-        ToothContact::Rigid => (super::N_INDEX1, super::N_INDEX2),
-        ToothContact::Elastic => (NY, 0),
-    };
+    let last = contact.last_slot();
+    let (n1, n2) = last.index_counts();
     Options {
         n1,
         n2,
         n3: 0,
         quadrature: std::array::from_fn(|i| {
             (idx::E_IN..=idx::E_MESH_DAMP).contains(&i)
-                || (i == idx::LAMBDA && contact == ToothContact::Elastic)
+                || (i == idx::LAMBDA && last.is_quadrature())
         }),
         second_order: Some((6, idx::V)),
-        // Rigid teeth have no mesh damping: E_MESH_DAMP stays 0 and out of the norms, so
-        // that the steps are those of the 22 other components.
-        norm_count: match contact {
-            ToothContact::Rigid => NY - 1,
-            ToothContact::Elastic => NY,
-        },
+        norm_count: contact.norm_count(),
         ..Options::default()
     }
 }

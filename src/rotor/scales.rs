@@ -17,8 +17,10 @@
 //! - vibration speed: the deflection times the bearings' natural frequency, `D W` with
 //!   `W = sqrt(K / Mr)`, `Mr` the rotors' masses in series over the default's (deflection
 //!   and speed ratios kept within 1e-6..1e2);
-//! - energies: load times deflection; lambda: the load; phi1: the deflection on gear 1's
-//!   base circle.
+//! - energies: load times deflection; the last slot: the load where it is the multiplier
+//!   lambda (rigid teeth), the energies' scale where it is the work stored in the mesh
+//!   springs (elastic teeth, `Contact::last_slot`); phi1: the deflection on gear 1's base
+//!   circle.
 //!
 //! For the default pair at its default start every ratio is exactly 1, so its results do
 //! not change; a start at 1500 rpm gets half the deflection scales, a start from rest 0.3
@@ -36,7 +38,8 @@ use super::{idx, GearedRotor, Inputs, Params, NY};
 ///   its *relative* tolerance is also reduced (`sim::PHI1_RTOL_FACTOR`);
 /// - energies E_in, E_loss, E_damp, E_load: 1 J (E_in reaches ~1e3 J in 50 ms);
 /// - lambda: 1e3 N, the order of the nominal contact force (RADAU5 also scales the error
-///   of this index-2 variable with h, radau5.md §3).
+///   of this index-2 variable with h, radau5.md §3); the layout of rigid teeth, whose last
+///   slot is lambda (elastic teeth hold an energy there: [`error_scales`]).
 pub const DEFAULT_PAIR_SCALES: [f64; NY] = default_pair();
 
 /// Alias of [`DEFAULT_PAIR_SCALES`] for code that works with the default pair (tests).
@@ -125,8 +128,9 @@ fn ratios(model: &GearedRotor, t0: f64, cal: &GearedRotor) -> [f64; 4] {
 }
 
 /// The scales for `model` started at t0 (its parameters and start inputs):
-/// [`DEFAULT_PAIR_SCALES`] times the ratios of the module docs. Exactly
-/// [`DEFAULT_PAIR_SCALES`] for the default pair at its calibration point.
+/// [`DEFAULT_PAIR_SCALES`] times the ratios of the module docs, the last slot in the unit
+/// the contact gives it. Exactly [`DEFAULT_PAIR_SCALES`] for the default pair (rigid
+/// teeth) at its calibration point.
 pub fn error_scales(model: &GearedRotor, t0: f64) -> [f64; NY] {
     let Ok(mut cal) = GearedRotor::new(Params::default()) else {
         return DEFAULT_PAIR_SCALES;
@@ -152,6 +156,10 @@ pub fn error_scales(model: &GearedRotor, t0: f64) -> [f64; NY] {
     ] {
         s[i] *= load * defl;
     }
-    s[idx::LAMBDA] *= load;
+    // A force or an energy, as the contact's last slot is (`Contact::last_slot`).
+    s[idx::LAMBDA] = model
+        .contact()
+        .last_slot()
+        .scale(s[idx::LAMBDA] * load, s[idx::E_IN]);
     s
 }
