@@ -55,12 +55,16 @@ pub struct GearedRotor {
     lub: Lubricant,
     /// Mesh and friction sums of the last kinematic state (a pure cache, see `memo`).
     memo: memo::KinematicMemo,
-    /// A spur contact line sticks at the pitch line (`model.md` §4.1; the simulation
-    /// switches it at located instants).
+    /// A spur contact line of the drive flanks sticks at the pitch line (`model.md` §4.1;
+    /// the simulation switches it at located instants). The coast flanks' line has the
+    /// same two flags in the mirrored pair.
     stick: bool,
     /// The sense (+1, -1) in which a line just released from sticking slides, 0 if none
     /// (`PitchLine::Released`).
     released: f64,
+    /// Whether the stick mode and the release refer to the coast flanks' line (elastic
+    /// teeth; `stick_flank_is_coast`).
+    stick_coast: bool,
     /// Physical scale of each state component (`rotor::error_scales`).
     scales: [f64; NY],
     /// The elastic mesh (`tooth_contact = elastic`, `model.md` §3.5); None for rigid teeth.
@@ -172,6 +176,7 @@ impl GearedRotor {
             memo: memo::KinematicMemo::default(),
             stick: false,
             released: 0.0,
+            stick_coast: false,
             scales: super::DEFAULT_PAIR_SCALES,
             elastic,
             coast,
@@ -336,7 +341,15 @@ impl GearedRotor {
         // The coast flanks (§3.6): their normal force and friction, zero while apart.
         // While the drive flanks carry the load they are apart (`coast_surely_apart`).
         let coast = if elastic.is_some_and(|c| !self.coast_surely_apart(&c, &m)) {
-            self.coast_terms(t, y, &m)?
+            // A stuck coast line is held against the drive flanks' forces too.
+            let mut drive = [0.0; 7];
+            if self.coast_sticks() {
+                let qd = fr.generalised();
+                for i in 0..7 {
+                    drive[i] = lam * grow[i] + qd[i];
+                }
+            }
+            self.coast_terms(t, y, &m, &drive)?
         } else {
             coast::CoastTerms::default()
         };
@@ -957,6 +970,19 @@ impl GearedRotor {
         y: &SVector<f64, NY>,
         res: Result<(Mesh, FrictionSums, f64), ModelError>,
     ) -> Outputs {
+        self.outputs_with_other(t, y, res, None)
+    }
+
+    /// [`GearedRotor::outputs_with`] where a stuck line is held against the generalised
+    /// forces `other` of the other flanks and the load (the coast side, whose mirrored
+    /// pair does not hold the inputs); None: the model's own coast flanks.
+    pub(crate) fn outputs_with_other(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        res: Result<(Mesh, FrictionSums, f64), ModelError>,
+        other: Option<&[f64; 7]>,
+    ) -> Outputs {
         let g = &self.geom;
         let v = idx::V;
         let mut o = Outputs::default();
@@ -972,7 +998,7 @@ impl GearedRotor {
         o.phi2 = (y[6] + g.rb1 * (y[idx::PHI1] - self.phi1_0)) / g.rb2;
         o.fn_ = lam;
         o.contact_lost = lam < 0.0;
-        o.stick = self.stick;
+        o.stick = self.stick();
         o.e_in = y[idx::E_IN];
         o.e_loss = y[idx::E_LOSS];
         // The dampers' and the mesh damping's (elastic teeth; 0 with rigid ones).
@@ -1031,7 +1057,12 @@ impl GearedRotor {
             // A stuck drive line of elastic teeth: held against the coast flanks' forces too.
             Some(st) if self.elastic.is_some() => {
                 let mut fr = sums.resultants(mu, lam);
-                let other = self.coast_terms(t, y, &m).map_or([f64::NAN; 7], |c| c.q);
+                let other = match other {
+                    Some(q) => *q,
+                    None => self
+                        .coast_terms(t, y, &m, &[0.0; 7])
+                        .map_or([f64::NAN; 7], |c| c.q),
+                };
                 self.add_stick_force(t, y, &m, st, lam, &other, &mut fr);
                 fr
             }

@@ -226,6 +226,8 @@ impl SimState {
         w.f64(self.model.released());
         // Contact onsets of the elastic flanks, since layout version 7.
         w.u64(self.impacts);
+        // The flank whose line sticks or was released (coast: elastic teeth), since 9.
+        w.bool(self.model.stick_flank_is_coast());
     }
 
     /// Reads what [`SimState::write`] wrote; the model is rebuilt by replaying its
@@ -314,8 +316,16 @@ impl SimState {
             }
             .into());
         }
-        problem.model.set_stick(stick, released);
         let impacts = r.u64("impact count")?;
+        let coast = r.bool("stick flank")?;
+        if coast && !problem.model.has_coast_flanks() {
+            return Err(DecodeError {
+                message: "a stick on the coast flanks for a model without coast flanks".into(),
+            }
+            .into());
+        }
+        problem.model.set_stick_flank(coast);
+        problem.model.set_stick(stick, released);
         Ok(SimState {
             solver,
             t_comm,

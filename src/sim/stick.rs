@@ -210,6 +210,11 @@ impl Simulation {
             Some((_, f_w)) if !on && f_w != 0.0 => -f_w.signum(),
             _ => 0.0,
         };
+        if on {
+            // The line that sticks: the coast flanks' while they carry the load.
+            let coast = model.coast_carries(t, self.solver.y());
+            model.set_stick_flank(coast);
+        }
         model.set_stick(on, release);
         let mut y = *self.solver.y();
         if let Ok(z) = model.contact().consistent_state(t, &y) {
@@ -223,7 +228,11 @@ impl Simulation {
     /// stick mode starts here instead of the hop to the other side of the jump.
     pub(super) fn sticks_at_landing(&self) -> bool {
         let model = &self.problem.model;
-        if model.stick() || !model.stick_possible() {
+        // (The predicted reversals are the drive flanks' lines'.)
+        if model.stick()
+            || !model.stick_possible()
+            || model.coast_carries(self.solver.t(), self.solver.y())
+        {
             return false;
         }
         let Some((gap, _, p, which)) = self.mesh_event_gap(0.0) else {

@@ -78,6 +78,16 @@ impl CoastFlank {
 }
 
 impl CoastFlank {
+    /// The mirrored pair (its stick flags are the coast line's, `rotor::dae::stick`).
+    pub(crate) fn mirror(&self) -> &GearedRotor {
+        &self.mirror
+    }
+
+    /// The mirrored pair, to set its stick flags.
+    pub(crate) fn mirror_mut(&mut self) -> &mut GearedRotor {
+        &mut self.mirror
+    }
+
     /// Changes the friction coefficient of the coast side with the drive side's (tunable
     /// `mu`).
     pub(crate) fn set_mu(&mut self, mu: f64) -> Result<(), crate::parameter::ParamError> {
@@ -108,7 +118,7 @@ impl GearedRotor {
     }
 
     /// The coast gap offset g_c0 of (3.26) at the model's drive offset g0.
-    fn coast_offset(&self) -> f64 {
+    pub(crate) fn coast_offset(&self) -> f64 {
         self.geom.coast_gap_offset(self.g0)
     }
 
@@ -142,7 +152,9 @@ impl GearedRotor {
     }
 
     /// The coast contact's terms of f at y (zero while the coast flanks are apart).
-    /// `m` is the drive side's mesh of y.
+    /// `m` is the drive side's mesh of y; `drive` the drive flanks' generalised forces
+    /// (normal force and friction, real coordinates), which a stuck coast line is held
+    /// against (read only then).
     ///
     /// # Errors
     /// Mesh or contact errors of the mirrored pair.
@@ -151,6 +163,7 @@ impl GearedRotor {
         t: f64,
         y: &SVector<f64, NY>,
         m: &crate::gear::Mesh,
+        drive: &[f64; 7],
     ) -> Result<CoastTerms, ModelError> {
         let mut out = CoastTerms::default();
         let Some(coast) = self.coast.as_ref() else {
@@ -166,7 +179,11 @@ impl GearedRotor {
         out.contact = c;
         if c.fn_ > 0.0 {
             let (sums, mu) = mir.friction(t, &z, &mz, c.fn_, Asker::Integrator)?;
-            let fr = sums.resultants(mu, c.fn_);
+            let mut fr = sums.resultants(mu, c.fn_);
+            if let Some(st) = &sums.stuck {
+                let other = self.mirrored_forces(t, drive);
+                mir.add_stick_force(t, &z, &mz, st, c.fn_, &other, &mut fr);
+            }
             let grow = mir.geom.constraint_row(&mz);
             let qf = fr.generalised();
             for i in 0..7 {
@@ -226,7 +243,12 @@ impl GearedRotor {
             }
             Err(e) => Err(e),
         };
-        let om = coast.mirror.outputs_with(t, &z, res);
+        // A stuck coast line: held against the drive flanks' forces and the load.
+        let other = coast.mirror.stick.then(|| {
+            let drive = self.drive_forces(t, y).unwrap_or([f64::NAN; 7]);
+            self.mirrored_forces(t, &drive)
+        });
+        let om = coast.mirror.outputs_with_other(t, &z, res, other.as_ref());
         let j1_dot = self.params.rotor1.j * y[idx::OMEGA1_DOT];
         // The mirrored T1 holds J1 omega1' of the mirrored (negated) acceleration.
         let t1_contact = -(om.t1 + j1_dot);
@@ -259,6 +281,41 @@ impl GearedRotor {
             o.mu_eff = om.mu_eff;
             o.mu_mz = om.mu_mz;
         }
+    }
+
+    /// Whether the coast flanks' line sticks.
+    pub(crate) fn coast_sticks(&self) -> bool {
+        self.coast.as_ref().is_some_and(|c| c.mirror.stick)
+    }
+
+    /// The forces a stuck coast line is held against besides the coast's own, in the
+    /// mirrored coordinates: the drive flanks' generalised forces `drive` through S, and
+    /// the load torque (the mirrored pair holds no inputs; S flips gear 2's rotation, so
+    /// `-T_load` becomes `+T_load`).
+    pub(crate) fn mirrored_forces(&self, t: f64, drive: &[f64; 7]) -> [f64; 7] {
+        let mut q = *drive;
+        for i in [1, 4, 6] {
+            q[i] = -q[i];
+        }
+        q[6] += self.inputs.t_load_at(t);
+        q
+    }
+
+    /// The drive flanks' generalised forces at y (normal force and friction, real
+    /// coordinates; no stuck drive line: used while the coast line sticks).
+    ///
+    /// # Errors
+    /// The mesh or the friction cannot be evaluated.
+    pub(crate) fn drive_forces(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+    ) -> Result<[f64; 7], ModelError> {
+        let m = self.mesh(t, y)?;
+        let (c, fr, _) = self.elastic_friction(t, y, &m)?;
+        let grow = self.geom.constraint_row(&m);
+        let qd = fr.generalised();
+        Ok(std::array::from_fn(|i| c.fn_ * grow[i] + qd[i]))
     }
 
     /// The static approach of the coast flanks for the normal force `f` (> 0) at y's

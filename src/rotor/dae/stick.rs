@@ -20,8 +20,10 @@
 //! Rigid teeth: lambda itself depends on `F_w` (the hidden constraint), so the two are
 //! solved together (`consistent_lambda_mode` in the stick mode). Elastic teeth (§3.5): the
 //! normal force `Fn` is a function of positions and velocities, `Fn G^T` and the coast
-//! flanks' forces are parts of `F` like the springs, and (4.13) is explicit. Only the drive
-//! flanks' lines stick; a spur coast contact slides through its pitch line.
+//! flanks' forces are parts of `F` like the springs, and (4.13) is explicit. Under a
+//! reversed load the coast flanks' line sticks the same way: it is the drive line of the
+//! mirrored pair (§3.6), whose stick flags hold it, held against the drive flanks' forces
+//! and the load seen through the mirror (`GearedRotor::mirrored_forces`).
 
 use super::{kinematics, GearedRotor};
 use crate::gear::contact_lines::reduce;
@@ -67,16 +69,59 @@ impl GearedRotor {
             && (law != FrictionLaw::Coulomb || self.params.mu > 0.0)
     }
 
-    /// Whether a contact line sticks at the pitch line (the stick mode of f).
+    /// Whether a contact line sticks at the pitch line (the stick mode of f), on either
+    /// flank.
     pub fn stick(&self) -> bool {
-        self.stick
+        self.stick || self.coast_sticks()
     }
 
-    /// Enters or leaves the stick mode (the simulation decides, at located instants). The
-    /// lambda of a state is then no longer consistent: re-project it with
+    /// Whether the stick mode and the release refer to the line of the coast flanks
+    /// (elastic teeth under a reversed load; the mirrored pair holds their flags, §3.6).
+    pub fn stick_flank_is_coast(&self) -> bool {
+        self.stick_coast
+    }
+
+    /// Chooses the flank whose line [`GearedRotor::set_stick`] acts on: the coast flanks'
+    /// (only with coast flanks) or the drive flanks'. The simulation takes the one that
+    /// carries the load where a line starts to stick ([`GearedRotor::coast_carries`]).
+    pub fn set_stick_flank(&mut self, coast: bool) {
+        self.stick_coast = coast && self.has_coast_flanks();
+    }
+
+    /// Whether the model has coast flanks (elastic teeth, §3.6).
+    pub fn has_coast_flanks(&self) -> bool {
+        self.coast.is_some()
+    }
+
+    /// Whether the coast flanks carry the load at y: they push and the drive flanks are
+    /// apart (elastic teeth; false where the mesh cannot be evaluated).
+    pub fn coast_carries(&self, t: f64, y: &SVector<f64, NY>) -> bool {
+        self.coast.is_some()
+            && self.mesh(t, y).is_ok_and(|m| {
+                let g = &self.geom;
+                let xi = y[idx::Q + 6];
+                -g.cos_beta_b * (g.gap_raw(&m, xi) + self.g0) <= 0.0
+                    && self.coast_approach(&m, xi) > 0.0
+            })
+    }
+
+    /// Enters or leaves the stick mode on the chosen flank's line
+    /// ([`GearedRotor::set_stick_flank`]; the simulation decides, at located instants).
+    /// The lambda of a state is then no longer consistent: re-project it with
     /// [`GearedRotor::consistent_lambda`]. Leaving it, `release` is the sense (+1 or -1) in
     /// which the line starts to slide (`PitchLine::Released`); entering clears it.
     pub fn set_stick(&mut self, on: bool, release: f64) {
+        if self.stick_coast {
+            if let Some(c) = self.coast.as_mut() {
+                c.mirror_mut().set_stick(on, release);
+            }
+            self.stick = false;
+            self.released = 0.0;
+            return;
+        }
+        if let Some(c) = self.coast.as_mut() {
+            c.mirror_mut().set_stick(false, 0.0);
+        }
         self.stick = on && self.stick_possible();
         // (f64::signum(0.0) is 1: a zero release sense must stay 0.)
         self.released = if self.stick || !self.stick_possible() || release == 0.0 {
@@ -89,12 +134,28 @@ impl GearedRotor {
     /// The sense (+1, -1) in which a just released line slides while its sliding speed is
     /// within the release band, 0 when none is released.
     pub fn released(&self) -> f64 {
-        self.released
+        match self.coast.as_ref() {
+            Some(c) if self.stick_coast => c.mirror().released,
+            _ => self.released,
+        }
     }
 
     /// Ends the release (the line left the band; the simulation decides).
     pub fn clear_release(&mut self) {
         self.released = 0.0;
+        if let Some(c) = self.coast.as_mut() {
+            c.mirror_mut().released = 0.0;
+        }
+    }
+
+    /// Whether the stick questions at y are about the coast flanks' line: the line that
+    /// sticks or was released, else the flanks that carry the load.
+    fn watches_coast(&self, t: f64, y: &SVector<f64, NY>) -> bool {
+        if self.stick() || self.released() != 0.0 {
+            self.stick_coast
+        } else {
+            self.coast_carries(t, y)
+        }
     }
 
     /// Half-width (m/s) of the band of `PitchLine::Released` at y: [`RELEASE_BAND`] of the
@@ -245,29 +306,52 @@ impl GearedRotor {
         self.stick_state(t, y).map(|(g, _)| g)
     }
 
-    /// [`GearedRotor::stick_margin`] and the stick force `F_w` (N, on gear 2 along e_w).
+    /// [`GearedRotor::stick_margin`] and the stick force `F_w` (N, on gear 2 along e_w;
+    /// the coast flanks' line: in the mirrored pair's terms).
     pub fn stick_state(&self, t: f64, y: &SVector<f64, NY>) -> Option<(f64, f64)> {
         if !self.stick_possible() {
             return None;
+        }
+        if self.watches_coast(t, y) {
+            let mir = self.coast.as_ref()?.mirror();
+            let z = super::coast::mirror_state(y);
+            let mz = mir.mesh(t, &z).ok()?;
+            let lam = mir.elastic_contact_with(&z, &mz, self.coast_offset()).fn_;
+            let other = self.mirrored_forces(t, &self.drive_forces(t, y).ok()?);
+            return mir.stick_state_at(t, &z, &mz, lam, &other);
         }
         let m = self.mesh(t, y).ok()?;
         let mut z = *y;
         // The normal force and the other contact's forces: the coast flanks' (elastic).
         let (lam, other) = if self.elastic.is_some() {
             let c = self.elastic_contact(y, &m);
-            (c.fn_, self.coast_terms(t, y, &m).ok()?.q)
+            (c.fn_, self.coast_terms(t, y, &m, &[0.0; 7]).ok()?.q)
         } else {
             z[idx::LAMBDA] = self.consistent_lambda_mode(t, y, &m, true).ok()?;
             (z[idx::LAMBDA], [0.0; 7])
         };
+        self.stick_state_at(t, &z, &m, lam, &other)
+    }
+
+    /// [`GearedRotor::stick_state`] at z (mesh `m`) with the normal force `lam` and the
+    /// other forces `other` (generalised) given.
+    fn stick_state_at(
+        &self,
+        t: f64,
+        z: &SVector<f64, NY>,
+        m: &Mesh,
+        lam: f64,
+        other: &[f64; 7],
+    ) -> Option<(f64, f64)> {
+        let (z, m) = (*z, m);
         let (sums, mu) = self
-            .friction_mode(t, &z, &m, lam, super::friction::Asker::Point, true)
+            .friction_mode(t, &z, m, lam, super::friction::Asker::Point, true)
             .ok()?;
         let st = sums.stuck?;
-        let row = self.stick_row(&z, &m, &st);
-        let grow = self.geom.constraint_row(&m);
+        let row = self.stick_row(&z, m, &st);
+        let grow = self.geom.constraint_row(m);
         let mut rest = sums.resultants(mu, lam).generalised();
-        for (r, o) in rest.iter_mut().zip(&other) {
+        for (r, o) in rest.iter_mut().zip(other) {
             *r += o;
         }
         let f_w = self.stick_force(t, &z, &row, lam, &grow, &rest);
@@ -291,6 +375,11 @@ impl GearedRotor {
     pub fn pitch_line_sliding(&self, t: f64, y: &SVector<f64, NY>) -> Option<f64> {
         if !self.stick_possible() {
             return None;
+        }
+        if self.watches_coast(t, y) {
+            // The coast flanks' line, in the mirrored pair (§3.6).
+            let z = super::coast::mirror_state(y);
+            return self.coast.as_ref()?.mirror().pitch_line_sliding(t, &z);
         }
         let m = self.mesh(t, y).ok()?;
         let g = &self.geom;
