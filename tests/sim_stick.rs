@@ -17,27 +17,12 @@
 //! - the located instants do not depend on the communication step;
 //! - a run-up from standstill to 3000 rpm completes.
 
-use geared_rotor::gear::{FrictionLaw, GearData};
+mod common;
+
+use common::stick::{phases, round_trip, rpm, spur};
+use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{Params, RELEASE_BAND};
 use geared_rotor::sim::{Input, Simulation, SolverSettings, StepReport};
-use std::f64::consts::PI;
-
-fn spur(mu: f64, law: FrictionLaw) -> Params {
-    let d = Params::default();
-    Params {
-        gear: GearData {
-            beta: 0.0,
-            ..d.gear
-        },
-        mu,
-        friction_law: law,
-        ..d
-    }
-}
-
-fn rpm(n: f64) -> f64 {
-    n * PI / 30.0
-}
 
 /// A run with constant inputs in doSteps of `h`: the simulation and the stick changes
 /// (instant, stick) it reported.
@@ -79,23 +64,6 @@ fn start_energy(p: Params, omega1: f64, t_load: f64) -> f64 {
         .unwrap()
         .outputs();
     o.e_kin + o.e_pot
-}
-
-/// Stick phases as (start, end) pairs; changes alternate, starting with a stick.
-fn phases(changes: &[(f64, bool)]) -> Vec<(f64, f64)> {
-    let mut out = Vec::new();
-    let mut start = None;
-    for &(t, stick) in changes {
-        match (stick, start) {
-            (true, None) => start = Some(t),
-            (false, Some(s)) => {
-                out.push((s, t));
-                start = None;
-            }
-            _ => panic!("changes do not alternate: {changes:?}"),
-        }
-    }
-    out
 }
 
 #[test]
@@ -369,19 +337,6 @@ fn a_periodic_start_that_cannot_resolve_stick_fails_fast_and_says_why() {
         Simulation::with_initialization(p, settings, 0.0, rpm(100.0), 0.0, Initialization::Rest)
             .unwrap();
     sim.do_step(0.0, 0.05).unwrap();
-}
-
-/// Serialises the simulation's state, reads it back, validates it and rebuilds from it.
-fn round_trip(sim: &Simulation) -> Simulation {
-    use geared_rotor::bytes::{Reader, Writer};
-    use geared_rotor::sim::SimState;
-    let mut w = Writer::default();
-    sim.state().write(&mut w);
-    let mut r = Reader::new(&w.buf);
-    let st = SimState::read(&mut r).unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
-    st.validate()
-        .unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
-    Simulation::from_state(&st).unwrap()
 }
 
 /// Stick phases together with look-ahead, input and tunable changes, and FMU states: at every

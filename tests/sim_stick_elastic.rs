@@ -15,27 +15,19 @@
 //!   goes to zero (law 2 has no stick mode);
 //! - the located instants do not depend on the communication step.
 
-use geared_rotor::gear::{FrictionLaw, GearData};
+mod common;
+
+use common::stick::{phases, round_trip, rpm};
+use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{Params, ToothContact, RELEASE_BAND};
 use geared_rotor::sim::{Simulation, SolverSettings};
-use std::f64::consts::PI;
 
+/// The spur pair of the rigid stick tests with elastic teeth.
 fn spur(mu: f64, law: FrictionLaw) -> Params {
-    let d = Params::default();
     Params {
-        gear: GearData {
-            beta: 0.0,
-            ..d.gear
-        },
-        mu,
-        friction_law: law,
         tooth_contact: ToothContact::Elastic,
-        ..d
+        ..common::stick::spur(mu, law)
     }
-}
-
-fn rpm(n: f64) -> f64 {
-    n * PI / 30.0
 }
 
 /// A run with constant inputs in doSteps of `h`: the simulation, the stick changes
@@ -67,23 +59,6 @@ fn run(
         worst = worst.max((supplied - used).abs() / o.e_in.abs());
     }
     (sim, changes, worst)
-}
-
-/// Stick phases as (start, end) pairs; changes alternate, starting with a stick.
-fn phases(changes: &[(f64, bool)]) -> Vec<(f64, f64)> {
-    let mut out = Vec::new();
-    let mut start = None;
-    for &(t, stick) in changes {
-        match (stick, start) {
-            (true, None) => start = Some(t),
-            (false, Some(s)) => {
-                out.push((s, t));
-                start = None;
-            }
-            _ => panic!("changes do not alternate: {changes:?}"),
-        }
-    }
-    out
 }
 
 #[test]
@@ -293,19 +268,6 @@ fn coast_lines_stick_under_a_reversed_load() {
         assert!(worst_sliding <= 1e-6, "{name}: {worst_sliding:e}");
         assert!(worst <= 1e-8, "{name}: {worst:e}");
     }
-}
-
-/// Serialises the simulation's state, reads it back, validates it and rebuilds from it.
-fn round_trip(sim: &Simulation) -> Simulation {
-    use geared_rotor::bytes::{Reader, Writer};
-    use geared_rotor::sim::SimState;
-    let mut w = Writer::default();
-    sim.state().write(&mut w);
-    let mut r = Reader::new(&w.buf);
-    let st = SimState::read(&mut r).unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
-    st.validate()
-        .unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
-    Simulation::from_state(&st).unwrap()
 }
 
 /// An FMU state taken while a coast line sticks keeps the flank: the copy continues bit

@@ -11,3 +11,4 @@ pub mod radau5;
 pub mod radau5_problems;
 pub mod rng;
 pub mod rotor;
+pub mod stick;
