@@ -19,6 +19,7 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 ///    the parameters of the ISO 6336-1 stiffness (`c_gamma`, `h_fP`).
 /// 7: the backlash `j_bn` in the parameter table (coast flanks of the elastic contact).
 /// 8: 23 state components (the mesh damping's energy before lambda); RADAU5's norm count.
+/// 9: after the impact count, the flank (drive/coast) whose line sticks or was released.
 pub const VERSION: u32 = 9;
 
 /// Why a byte buffer was rejected.

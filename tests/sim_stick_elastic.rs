@@ -19,7 +19,30 @@ mod common;
 
 use common::stick::{phases, round_trip, rpm};
 use geared_rotor::gear::FrictionLaw;
-use geared_rotor::rotor::{Params, ToothContact, RELEASE_BAND};
+use geared_rotor::rotor::{idx, Params, ToothContact, NY, RELEASE_BAND};
+use nalgebra::SVector;
+
+/// The outputs' input power and friction loss against the energy rates of f at the same
+/// state: the stick force enters both the same way (f and the outputs compute it apart).
+fn outputs_match_f(sim: &Simulation, what: &str) {
+    let (t, y) = (sim.time(), *sim.y());
+    let o = sim.outputs();
+    let mut f = SVector::<f64, NY>::zeros();
+    sim.model().clone().rhs(t, &y, &mut f).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0);
+    assert!(
+        close(o.p_in, f[idx::E_IN]),
+        "{what}: P_in {} vs {}",
+        o.p_in,
+        f[idx::E_IN]
+    );
+    assert!(
+        close(o.p_loss, f[idx::E_LOSS]),
+        "{what}: P_loss {} vs {}",
+        o.p_loss,
+        f[idx::E_LOSS]
+    );
+}
 use geared_rotor::sim::{Simulation, SolverSettings};
 
 /// The spur pair of the rigid stick tests with elastic teeth.
@@ -133,6 +156,7 @@ fn a_stuck_elastic_line_does_not_slide_and_its_force_stays_within_the_bound() {
                 margin >= -1e-6 * f_w.abs(),
                 "t = {t}: margin {margin} N, F_w {f_w} N"
             );
+            outputs_match_f(&sim, "drive stick");
             samples += 1;
         }
         exits += r
@@ -150,7 +174,8 @@ fn a_stuck_elastic_line_does_not_slide_and_its_force_stays_within_the_bound() {
         samples > 20 && exits >= 2,
         "{samples} samples, {exits} exits"
     );
-    assert!(worst_sliding <= 1e-6, "{worst_sliding:e}");
+    // Entry tolerance 1e-6 of the rolling speed plus the integration error (measured 7.2e-7).
+    assert!(worst_sliding <= 2e-6, "{worst_sliding:e}");
     assert!(worst_sliding <= 0.1 * RELEASE_BAND);
 }
 
@@ -210,13 +235,21 @@ fn elastic_stick_instants_do_not_depend_on_the_communication_step() {
 
 /// A reversed load: the coast flanks carry it, and their lines stick at the coast pitch
 /// line (the mirrored pair's, model.md §3.6). Before, the coast lines had no stick mode:
-/// 100 rpm with -50 N m stopped after 50 000 internal steps at 9.7 ms.
+/// 100 rpm with -50 N m stopped after 50 000 internal steps at 9.7 ms. The last case tunes
+/// the damper d_phi at 10 ms (the mirrored pair must follow: with its old d_phi the stuck
+/// line slid 7e-4 of the rolling speed and the run stalled at 11.3 ms).
 #[test]
 fn coast_lines_stick_under_a_reversed_load() {
-    for (name, law, t_load) in [
-        ("law 1, -50 N m", FrictionLaw::Coulomb, -50.0),
-        ("law 1, -100 N m", FrictionLaw::Coulomb, -100.0),
-        ("law 3, -50 N m", FrictionLaw::IsoMean, -50.0),
+    for (name, law, t_load, tuned_d_phi) in [
+        ("law 1, -50 N m", FrictionLaw::Coulomb, -50.0, None),
+        ("law 1, -100 N m", FrictionLaw::Coulomb, -100.0, None),
+        ("law 3, -50 N m", FrictionLaw::IsoMean, -50.0, None),
+        (
+            "law 1, -50 N m, d_phi 0 -> 0.5",
+            FrictionLaw::Coulomb,
+            -50.0,
+            Some(0.5),
+        ),
     ] {
         let mut p = spur(0.05, law);
         // No damper: its torque would load the drive flanks.
@@ -233,6 +266,9 @@ fn coast_lines_stick_under_a_reversed_load() {
         let (mut changes, mut coast_samples, mut worst_sliding) = (Vec::new(), 0, 0.0f64);
         let mut worst = 0.0f64;
         for k in 0..500 {
+            if let (100, Some(d)) = (k, tuned_d_phi) {
+                sim.set_d_phi(d).unwrap();
+            }
             let r = sim
                 .do_step(k as f64 * h, h)
                 .unwrap_or_else(|e| panic!("{name}, t = {}: {e}", k as f64 * h));
@@ -251,6 +287,7 @@ fn coast_lines_stick_under_a_reversed_load() {
                     margin >= -1e-6 * f_w.abs(),
                     "{name}: t = {t}: {margin} N, {f_w} N"
                 );
+                outputs_match_f(&sim, name);
                 coast_samples += 1;
             }
             let supplied = o.e_in + (o.w_mesh_stiffness - o0.w_mesh_stiffness);
@@ -265,7 +302,10 @@ fn coast_lines_stick_under_a_reversed_load() {
             sim.stats()
         );
         assert!(!ph.is_empty() && coast_samples > 5, "{name}: {changes:?}");
-        assert!(worst_sliding <= 1e-6, "{name}: {worst_sliding:e}");
+        // A stick phase starts with |x0| up to 1e-6 of the rolling speed (the entry
+        // tolerance, `sim::stick`) and the relaxation pulls it to zero: 2e-6 bounds that
+        // with the integration error (measured <= 9.7e-7).
+        assert!(worst_sliding <= 2e-6, "{name}: {worst_sliding:e}");
         assert!(worst <= 1e-8, "{name}: {worst:e}");
     }
 }

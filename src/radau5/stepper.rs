@@ -397,8 +397,10 @@ impl<const N: usize> Radau5<N> {
     /// The caller stopped on a point where the problem's Jacobian jumps (a kink of f, or a
     /// jump the caller has just refreshed f across): the Newton convergence rate measured
     /// before it (`FACCON`, docs/radau5.md §4) says nothing about the iteration after it.
-    /// Resets it to its value at the start, so that the next step accepts no iterate on
-    /// that rate alone: it iterates at least until it has measured its own contraction.
+    /// Resets it to its value at the start (1), so that the next step accepts its first
+    /// iterate only if that iterate's increment is itself within the Newton tolerance
+    /// (`||dW|| <= kappa`), and otherwise iterates until it has measured its own
+    /// contraction.
     /// J, the LU pair, h and the controller history are kept.
     ///
     /// Why: with a rate of ~1e-3 from the smooth part, FACCON ||dW|| <= kappa accepts the

@@ -136,16 +136,6 @@ impl Contact<'_> {
         self.kind().last_slot()
     }
 
-    /// RADAU5's index counts `(n1, n2)` ([`LastSlot::index_counts`]).
-    pub fn index_counts(&self) -> (usize, usize) {
-        self.last_slot().index_counts()
-    }
-
-    /// How many components the solver's norms count ([`ToothContact::norm_count`]).
-    pub fn norm_count(&self) -> usize {
-        self.kind().norm_count()
-    }
-
     /// Whether the normal force is a Lagrange multiplier of a constraint (rigid teeth):
     /// then the state must satisfy the constraint, and the stepper's value of the force is
     /// only a first guess of the consistent one.

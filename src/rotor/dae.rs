@@ -234,6 +234,10 @@ impl GearedRotor {
         check_d_phi(d)?;
         self.params.d_phi = d;
         self.damp[6] = d;
+        // The mirrored pair holds a stuck coast line against the damper too (§4.1).
+        if let Some(c) = self.coast.as_mut() {
+            c.mirror_mut().set_d_phi(d)?;
+        }
         Ok(())
     }
 

@@ -211,8 +211,9 @@ impl Simulation {
             _ => 0.0,
         };
         if on {
-            // The line that sticks: the coast flanks' while they carry the load.
-            let coast = model.coast_carries(t, self.solver.y());
+            // The line that sticks: the one the margin that decided the entry was asked
+            // about (the coast flanks' while they carry the load).
+            let coast = model.watches_coast(t, self.solver.y());
             model.set_stick_flank(coast);
         }
         model.set_stick(on, release);

@@ -77,7 +77,8 @@ impl CoastFlank {
 }
 
 impl CoastFlank {
-    /// The mirrored pair (its stick flags are the coast line's, `rotor::dae::stick`).
+    /// The mirrored pair (its stick flags are the coast line's, `rotor::dae::stick`; its
+    /// tunables follow the drive side's: `GearedRotor::set_mu`, `GearedRotor::set_d_phi`).
     pub(crate) fn mirror(&self) -> &GearedRotor {
         &self.mirror
     }

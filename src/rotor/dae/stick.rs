@@ -148,9 +148,11 @@ impl GearedRotor {
         }
     }
 
-    /// Whether the stick questions at y are about the coast flanks' line: the line that
-    /// sticks or was released, else the flanks that carry the load.
-    fn watches_coast(&self, t: f64, y: &SVector<f64, NY>) -> bool {
+    /// Whether the stick questions at y ([`GearedRotor::stick_state`],
+    /// [`GearedRotor::pitch_line_sliding`]) are about the coast flanks' line: the line that
+    /// sticks or was released, else the flanks that carry the load. A line that starts to
+    /// stick at y is on this flank ([`GearedRotor::set_stick_flank`]).
+    pub fn watches_coast(&self, t: f64, y: &SVector<f64, NY>) -> bool {
         if self.stick() || self.released() != 0.0 {
             self.stick_coast
         } else {
