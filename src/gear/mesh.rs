@@ -1,7 +1,7 @@
 //! Mesh kinematics of the displaced centres (`model.md` §3.1-§3.3): line of action,
 //! contact normal, gap function and constraint row.
 
-use super::geometry::PairGeometry;
+use super::geometry::{inv, PairGeometry};
 use nalgebra::Vector3;
 use std::fmt;
 
@@ -76,13 +76,6 @@ pub struct Mesh {
 }
 
 impl Mesh {
-    /// The involute function of the working pressure angle, `inv alpha = tan alpha - alpha`,
-    /// with `tan alpha = |T1 T2| / R` from the tangent already at hand (`r_sum` = R, the
-    /// sum of the base radii; cos alpha = R / a): no tan per call.
-    pub fn inv_alpha(&self, r_sum: f64) -> f64 {
-        self.len_t1t2 / r_sum - self.alpha
-    }
-
     /// The point P(sigma, Z) = T1 + sigma t + Z e_z of the plane of action (§3.4).
     pub fn point(&self, sigma: f64, z: f64) -> Vector3<f64> {
         self.t1 + sigma * self.t + Vector3::new(0.0, 0.0, z)
@@ -172,7 +165,7 @@ impl PairGeometry {
     /// `g - g0 = R (inv alpha + theta) + te + tan beta_b (u2z - u1z)`,
     /// with `te = r_b2 phi2 - r_b1 phi1` the transmission-error coordinate.
     pub fn gap_raw(&self, m: &Mesh, te: f64) -> f64 {
-        self.r_sum * (m.inv_alpha(self.r_sum) + m.theta) + te + self.tan_beta_b * (m.c2.z - m.c1.z)
+        self.r_sum * (inv(m.alpha) + m.theta) + te + self.tan_beta_b * (m.c2.z - m.c1.z)
     }
 
     /// Constraint row `G(q) = [-n, n, r_b2 cos beta_b] = cos beta_b dg/dq` (`model.md` §3.3),

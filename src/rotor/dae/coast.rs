@@ -13,6 +13,7 @@
 use super::elastic::ElasticContact;
 use super::friction::Asker;
 use super::GearedRotor;
+use crate::gear::inv;
 use crate::rotor::{idx, ModelError, Outputs, Params, NY};
 use nalgebra::SVector;
 
@@ -127,7 +128,7 @@ impl GearedRotor {
     /// `g_c = R (inv alpha - theta) - xi - tan(beta_b) (u2z - u1z) + g_c0`, m.
     pub(crate) fn coast_approach(&self, m: &crate::gear::Mesh, xi: f64) -> f64 {
         let g = &self.geom;
-        let gc = g.r_sum * (m.inv_alpha(g.r_sum) - m.theta) - xi - g.tan_beta_b * (m.c2.z - m.c1.z)
+        let gc = g.r_sum * (inv(m.alpha) - m.theta) - xi - g.tan_beta_b * (m.c2.z - m.c1.z)
             + self.coast_offset();
         -g.cos_beta_b * gc
     }
