@@ -25,8 +25,8 @@
 //!   through without trouble, the controller's proposal from before the shortening is kept
 //!   (scaled by [`Options::resume_after_stop`], default 1; the Gustafsson history is not
 //!   overwritten by the tiny step), so tiny
-//!   communication steps cost one step each. Between stop intervals of (nearly) equal
-//!   length the LU pair is reused. A Newton start extrapolated over more than `1/facr`
+//!   communication steps cost one step each. Between stop intervals of equal length (to
+//!   1e-9) the LU pair is reused. A Newton start extrapolated over more than `1/facr`
 //!   times the last step (impossible in the Fortran) starts from zero instead.
 //! - `f(t, y)` after a step that landed on a stop time is evaluated when the next step
 //!   starts (the Fortran never evaluates it after its last step, and does not count it).
