@@ -224,15 +224,24 @@ fn stop_times_do_not_restart_the_method() {
 /// doStep of 1e-5 s): about one internal step per call, LU pair reused.
 #[test]
 fn tiny_stop_intervals_cost_about_one_step_each() {
+    // Also late in a run (t0 = 1000 s: the intervals t_stop - t then differ by the rounding
+    // of t, 1.1e-13 s, 1.1e-8 of dt; a plain relative test of 1e-9 lost the LU reuse there:
+    // 890 decompositions).
+    for t0 in [0.0, 1000.0] {
+        tiny_stop_intervals_from(t0);
+    }
+}
+
+fn tiny_stop_intervals_from(t0: f64) {
     let (mut p, y0) = pendulum2();
     let o = pendulum2_opts(1e-6);
-    let mut s = Radau5::new(&mut p, o, 0.0, y0).unwrap();
-    s.integrate_to(&mut p, 0.5).unwrap();
+    let mut s = Radau5::new(&mut p, o, t0, y0).unwrap();
+    s.integrate_to(&mut p, t0 + 0.5).unwrap();
     let before = *s.stats();
     let calls = 2000u64;
     let dt = 1e-5;
     for k in 1..=calls {
-        s.integrate_to(&mut p, 0.5 + dt * k as f64).unwrap();
+        s.integrate_to(&mut p, t0 + 0.5 + dt * k as f64).unwrap();
     }
     let d = *s.stats();
     let steps = d.nstep - before.nstep;
@@ -250,9 +259,40 @@ fn tiny_stop_intervals_cost_about_one_step_each() {
     // still on the constraint |q| = 1 and close to a plain run
     let q = s.y();
     assert!(((q[0] * q[0] + q[1] * q[1]).sqrt() - 1.0).abs() < 1e-5);
-    let mut r = Radau5::new(&mut p, o, 0.0, y0).unwrap();
-    r.integrate_to(&mut p, 0.5 + dt * calls as f64).unwrap();
+    let mut r = Radau5::new(&mut p, o, t0, y0).unwrap();
+    r.integrate_to(&mut p, t0 + 0.5 + dt * calls as f64)
+        .unwrap();
     assert!((r.y() - s.y()).rows(0, 4).norm() < 1e-5);
+}
+
+/// Stop intervals of alternating length d and 1.1 d: an LU pair is never reused for a step
+/// of another h (the Newton matrix would be wrong by 1 - h_lu/h, up to 0.17 within the
+/// Fortran's [1, 1.2] window): every step decomposes. With d alone the pair is reused.
+#[test]
+fn clipped_steps_reuse_only_an_lu_pair_of_their_own_step_size() {
+    let (mut p, y0) = pendulum2();
+    let o = pendulum2_opts(1e-6);
+    for (ratio, reused) in [(1.1, false), (1.0, true)] {
+        let mut s = Radau5::new(&mut p, o, 0.0, y0).unwrap();
+        s.integrate_to(&mut p, 0.5).unwrap();
+        let before = *s.stats();
+        let d = 1e-3;
+        let mut t = 0.5;
+        for k in 0..1000 {
+            t += if k % 2 == 0 { d } else { ratio * d };
+            s.integrate_to(&mut p, t).unwrap();
+        }
+        let st = s.stats().since(&before);
+        println!(
+            "spacing d, {ratio} d: {} steps, {} decompositions",
+            st.nstep, st.ndec
+        );
+        if reused {
+            assert!(st.ndec < st.nstep / 10, "{st}");
+        } else {
+            assert_eq!(st.ndec, st.nstep, "{st}");
+        }
+    }
 }
 
 /// A stop time one ulp ahead (rounded communication point) is reached without a step.

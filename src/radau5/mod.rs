@@ -26,7 +26,8 @@
 //!   (scaled by [`Options::resume_after_stop`], default 1; the Gustafsson history is not
 //!   overwritten by the tiny step), so tiny
 //!   communication steps cost one step each. Between stop intervals of equal length (to
-//!   1e-9) the LU pair is reused. A Newton start extrapolated over more than `1/facr`
+//!   1e-9 and the rounding of t) the LU pair is reused, not between merely similar ones
+//!   (the Newton matrix would be wrong by 1 - h_lu/h). A Newton start extrapolated over more than `1/facr`
 //!   times the last step (impossible in the Fortran) starts from zero instead.
 //! - `f(t, y)` after a step that landed on a stop time is evaluated when the next step
 //!   starts (the Fortran never evaluates it after its last step, and does not count it).
