@@ -269,7 +269,7 @@ the bearings' deflection) plus the coast flanks' approach (7.4 um).</figcaption>
 <figure><img src="figures/rattle.png" alt="omega1 and omega2, mesh_state, Fn and Fn_coast, impacts in a rattle">
 <figcaption>Rattle: no load, <code>d_phi</code> = 0.01 N m s/rad, <code>omega1</code> &plusmn;5 % at 30 Hz set at every
 communication point. Gear 2 lags and overtakes gear 1: the teeth hit both flanks, 460 impacts per second, forces up
-to 1486 N (drive) and 1568 N (coast), in free flight 53 % of the time.</figcaption></figure>
+to 1485 N (drive) and 1568 N (coast), in free flight 53 % of the time.</figcaption></figure>
 <figure><img src="figures/dynamic_factor.png" alt="max Fn over its static value against the drive speed, with and without backlash, sweeps up and down">
 <figcaption>Dynamic factor: max <code>Fn</code> over its static value against the drive speed, the default pair made spur,
 <code>T_load</code> = 100 N m, each point started from its neighbour's periodic orbit (the <code>periodic</code> program's
