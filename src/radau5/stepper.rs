@@ -308,6 +308,9 @@ impl<const N: usize> Radau5<N> {
     /// just ended: f evaluated as its limit from after the jump (and the algebraic
     /// components that jump with it) lets the next step start consistently, whereas its
     /// error estimate would combine the f from before with stages that all lie after.
+    /// f changed here, so the Newton rate measured before is forgotten too
+    /// ([`Radau5::forget_convergence_rate`]): the next step starts from a polynomial that
+    /// no longer fits and must measure its own contraction.
     ///
     /// # Errors
     /// [`Error::InvalidOption`] for a non-finite `y`; [`Error::Rhs`] / [`Error::NonFinite`]
@@ -326,6 +329,7 @@ impl<const N: usize> Radau5<N> {
         s.y = y;
         s.f0 = f0;
         s.f0_valid = true;
+        self.forget_convergence_rate();
         Ok(())
     }
 
@@ -394,8 +398,9 @@ impl<const N: usize> Radau5<N> {
         Ok(Retake::Interpolated)
     }
 
-    /// The caller stopped on a point where the problem's Jacobian jumps (a kink of f, or a
-    /// jump the caller has just refreshed f across): the Newton convergence rate measured
+    /// The caller stopped on a point where the problem's Jacobian jumps (a kink of f; a
+    /// jump or a new f goes through [`Radau5::refresh_f`], which does this itself): the
+    /// Newton convergence rate measured
     /// before it (`FACCON`, docs/radau5.md §4) says nothing about the iteration after it.
     /// Resets it to its value at the start (1), so that the next step accepts its first
     /// iterate only if that iterate's increment is itself within the Newton tolerance

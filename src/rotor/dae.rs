@@ -329,12 +329,8 @@ impl GearedRotor {
         } else {
             let lam = y[idx::LAMBDA];
             let (sums, mu) = self.friction(t, y, &m, lam, Asker::Integrator)?;
-            (
-                None,
-                lam,
-                self.friction_resultants(t, y, &m, &sums, mu),
-                None,
-            )
+            let fr = self.friction_resultants(t, y, &m, &sums, mu, &[0.0; 7]);
+            (None, lam, fr, None)
         };
         let grow = g.constraint_row(&m);
         let v = idx::V;
@@ -346,13 +342,11 @@ impl GearedRotor {
         // While the drive flanks carry the load they are apart (`coast_surely_apart`).
         let coast = if elastic.is_some_and(|c| !self.coast_surely_apart(&c, &m)) {
             // A stuck coast line is held against the drive flanks' forces too.
-            let mut drive = [0.0; 7];
-            if self.coast_sticks() {
-                let qd = fr.generalised();
-                for i in 0..7 {
-                    drive[i] = lam * grow[i] + qd[i];
-                }
-            }
+            let drive = if self.coast_sticks() {
+                coast::contact_generalised(lam, &grow, &fr)
+            } else {
+                [0.0; 7]
+            };
             self.coast_terms(t, y, &m, &drive)?
         } else {
             coast::CoastTerms::default()
@@ -1057,21 +1051,16 @@ impl GearedRotor {
                 return o;
             }
         };
-        let fr = match &sums.stuck {
-            // A stuck drive line of elastic teeth: held against the coast flanks' forces too.
-            Some(st) if self.elastic.is_some() => {
-                let mut fr = sums.resultants(mu, lam);
-                let other = match other {
-                    Some(q) => *q,
-                    None => self
-                        .coast_terms(t, y, &m, &[0.0; 7])
-                        .map_or([f64::NAN; 7], |c| c.q),
-                };
-                self.add_stick_force(t, y, &m, st, lam, &other, &mut fr);
-                fr
-            }
-            _ => self.friction_resultants(t, y, &m, &sums, mu),
+        // A stuck line is held against the other flanks' forces too (elastic teeth: the
+        // given ones, or the model's own coast flanks).
+        let other = match (other, sums.stuck.is_some() && self.elastic.is_some()) {
+            (Some(q), _) => *q,
+            (None, true) => self
+                .coast_terms(t, y, &m, &[0.0; 7])
+                .map_or([f64::NAN; 7], |c| c.q),
+            (None, false) => [0.0; 7],
         };
+        let fr = self.friction_resultants(t, y, &m, &sums, mu, &other);
         if self.elastic.is_some() {
             let c = self.elastic_contact(y, &m);
             o.mesh_deflection = c.delta;

@@ -125,12 +125,12 @@ impl Simulation {
     /// f jumps at a contact event: a fresh f where the stepper stands. J and the step-size
     /// history are kept (the stepper renews J when Newton slows down): rattle, 0.1 s at
     /// rtol 1e-6: 39636 f, 939 J, 4119 LU instead of 41284, 1043, 4359 with a full restart.
-    /// The Newton rate from before is forgotten: the mesh spring appears or vanishes here,
-    /// so the old J no longer describes f and only a measured rate may end the iteration.
+    /// The Newton rate from before is forgotten (`Radau5::refresh` does it): the mesh
+    /// spring appears or vanishes here, so the old J no longer describes f and only a
+    /// measured rate may end the iteration.
     /// Measured (no test can tell it apart): rattle at rtol 1e-6 against rtol 1e-12, TE
     /// error 1.1e-7 -> 7.7e-8 m; reversal energy balance at rtol 1e-9 3.1e-9 -> 2.3e-9.
     fn renew_f(&mut self) -> Result<(), SimError> {
-        self.solver.forget_convergence_rate();
         let y = *self.solver.y();
         self.solver.refresh(&mut self.problem, y).map_err(|e| {
             let ts = self.solver.t();

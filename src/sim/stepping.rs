@@ -105,16 +105,15 @@ impl Simulation {
             // re-evaluated (`Radau5::refresh`). A new tunable changes J, and a failed step
             // leaves nothing to trust: full restart.
             //
-            // The Newton rate measured before is not: the next step starts from the old
-            // polynomial, off by the input's effect, and an iterate accepted on that rate
-            // (`Radau5::forget_convergence_rate`) left the energy balance of the reversal
+            // The Newton rate measured before is not (`refresh` forgets it): the next step
+            // starts from the old polynomial, off by the input's effect, and an iterate
+            // accepted on that rate left the energy balance of the reversal
             // run off by 3.4e-4 J in one free-flight step at rtol 1e-8 (1.4e-6 of E_in in
             // all, 7.2e-9 with the reset; the same f count), and T1 of the elastic closed
             // loop off by 0.094 N m at rtol 1e-5 (1.0e-4 with it).
             let r = if self.restart_pending {
                 self.solver.restart(&mut self.problem, y, None)
             } else {
-                self.solver.forget_convergence_rate();
                 self.solver.refresh(&mut self.problem, y)
             };
             if let Err(e) = r {

@@ -13,7 +13,7 @@
 use super::elastic::ElasticContact;
 use super::friction::Asker;
 use super::GearedRotor;
-use crate::gear::inv;
+use crate::gear::{inv, Friction};
 use crate::rotor::{idx, ModelError, Outputs, Params, NY};
 use nalgebra::SVector;
 
@@ -30,6 +30,22 @@ const FLIPPED: [usize; 9] = [
     idx::OMEGA1,
     idx::OMEGA1_DOT,
 ];
+
+/// A generalised force (order of q) through the mirror: `S q` flips u1y, u2y and gear 2's
+/// rotation (S = S^-1, so the same map takes it back).
+pub(crate) fn mirror_generalised(mut q: [f64; 7]) -> [f64; 7] {
+    for i in [1, 4, 6] {
+        q[i] = -q[i];
+    }
+    q
+}
+
+/// The generalised force of a contact: its normal force `fn_` along the constraint row
+/// `grow` plus its friction `fr`.
+pub(crate) fn contact_generalised(fn_: f64, grow: &[f64; 7], fr: &Friction) -> [f64; 7] {
+    let qf = fr.generalised();
+    std::array::from_fn(|i| fn_ * grow[i] + qf[i])
+}
 
 /// The mirrored state `S y`.
 pub(crate) fn mirror_state(y: &SVector<f64, NY>) -> SVector<f64, NY> {
@@ -111,11 +127,9 @@ impl GearedRotor {
         z.fixed_rows_mut::<6>(0).copy_from_slice(u);
         let z = mirror_state(&z);
         let m = coast.mirror.mesh(t, &z)?;
-        let mut row = coast.mirror.geom.constraint_row(&m);
-        for i in [1, 4, 6] {
-            row[i] = -row[i];
-        }
-        Ok(Some(row))
+        Ok(Some(mirror_generalised(
+            coast.mirror.geom.constraint_row(&m),
+        )))
     }
 
     /// The coast gap offset g_c0 of (3.26) at the model's drive offset g0.
@@ -186,15 +200,9 @@ impl GearedRotor {
                 mir.add_stick_force(t, &z, &mz, st, c.fn_, &other, &mut fr);
             }
             let grow = mir.geom.constraint_row(&mz);
-            let qf = fr.generalised();
-            for i in 0..7 {
-                out.q[i] = c.fn_ * grow[i] + qf[i];
-            }
+            out.q = mirror_generalised(contact_generalised(c.fn_, &grow, &fr));
             out.t1 = -(c.fn_ * mir.geom.rb1 * mir.geom.cos_beta_b - fr.m1.z);
             out.p_loss = fr.p_loss;
-        }
-        for i in [1, 4, 6] {
-            out.q[i] = -out.q[i];
         }
         Ok(out)
     }
@@ -294,10 +302,7 @@ impl GearedRotor {
     /// the load torque (the mirrored pair holds no inputs; S flips gear 2's rotation, so
     /// `-T_load` becomes `+T_load`).
     pub(crate) fn mirrored_forces(&self, t: f64, drive: &[f64; 7]) -> [f64; 7] {
-        let mut q = *drive;
-        for i in [1, 4, 6] {
-            q[i] = -q[i];
-        }
+        let mut q = mirror_generalised(*drive);
         q[6] += self.inputs.t_load_at(t);
         q
     }
@@ -314,9 +319,11 @@ impl GearedRotor {
     ) -> Result<[f64; 7], ModelError> {
         let m = self.mesh(t, y)?;
         let (c, fr, _) = self.elastic_friction(t, y, &m)?;
-        let grow = self.geom.constraint_row(&m);
-        let qd = fr.generalised();
-        Ok(std::array::from_fn(|i| c.fn_ * grow[i] + qd[i]))
+        Ok(contact_generalised(
+            c.fn_,
+            &self.geom.constraint_row(&m),
+            &fr,
+        ))
     }
 
     /// The static approach of the coast flanks for the normal force `f` (> 0) at y's

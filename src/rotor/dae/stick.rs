@@ -255,7 +255,8 @@ impl GearedRotor {
     }
 
     /// The friction resultants of sums from [`GearedRotor::friction`] at the normal force
-    /// `lam` = y's lambda, the stick force included when a line sticks (as f applies them).
+    /// `lam` = y's lambda, the stick force included when a line sticks (as f applies them),
+    /// held against `other` besides the forces of y (the other flanks', elastic teeth).
     pub(crate) fn friction_resultants(
         &self,
         t: f64,
@@ -263,11 +264,12 @@ impl GearedRotor {
         m: &Mesh,
         sums: &FrictionSums,
         mu: f64,
+        other: &[f64; 7],
     ) -> Friction {
         let lam = y[idx::LAMBDA];
         let mut fr = sums.resultants(mu, lam);
         if let Some(st) = &sums.stuck {
-            self.add_stick_force(t, y, m, st, lam, &[0.0; 7], &mut fr);
+            self.add_stick_force(t, y, m, st, lam, other, &mut fr);
         }
         fr
     }
