@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-import time
 from pathlib import Path
 
 import matplotlib
@@ -36,62 +35,38 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
-from helpers.fmu_harness import FMU_PATH, FMI2_OK, FmuPackage, Recorder, build_fmu, call_status  # noqa: E402
+from helpers import coast_cases  # noqa: E402
+from helpers.coast_cases import OMEGA1, omega1_rattle, t_load_reversal  # noqa: E402
+from helpers.fmu_harness import FMU_PATH, FMI2_OK, FmuPackage, build_fmu  # noqa: E402
+from helpers.gear_theory import inv  # noqa: E402
 
 FIG = ROOT / "docs" / "figures"
-OMEGA1 = 314.159
 H = 1e-4
 TOLERANCE = 1e-8
 NAMES = ["mesh_state", "Fn", "Fn_coast", "TE", "gap", "impacts", "omega2", "mesh_stiffness",
          "u1.x", "u1.y", "u2.x", "u2.y"]
 
 
-def t_load_reversal(t: float) -> float:
-    if t < 0.02:
-        return 100.0
-    if t < 0.025:
-        return 100.0 - 200.0 * (t - 0.02) / 0.005
-    return -100.0
-
-
-def omega1_rattle(t: float) -> float:
-    return OMEGA1 * (1.0 + 0.05 * math.sin(2.0 * math.pi * 30.0 * t))
-
-
 def simulate(pkg: FmuPackage, params: dict, inputs, n: int):
-    """n communication steps from the static equilibrium with elastic teeth; `inputs(t)`
-    set before each doStep. Returns the trajectory (with the inputs as set), the
-    calculated parameters and the CPU time; exits on any status other than OK."""
-    inst = pkg.instance("coast_figures", logging_on=True)
-    try:
-        inst.initialize({"tooth_contact": 2, "initialization": 2, **params}, tolerance=TOLERANCE)
-        cal = inst.get(["r_b1", "r_b2", "a_w", "alpha_wt", "beta_b", "j_bn", "z1", "z2"])
-        rec = Recorder(inst, NAMES)
-        rec.sample()
-        u = [inputs(0.0)]
-        cpu = time.process_time()
-        for k in range(n):
-            u[-1] = inputs(k * H)
-            inst.set(u[-1])
-            status = call_status(inst.do_step, H)
-            if status != FMI2_OK:
-                sys.exit(f"doStep at {k * H:.4f} s returned {status}:\n{inst.log_text()}")
-            rec.sample()
-            u.append(u[-1])
-        cpu = time.process_time() - cpu
-        warnings = [str(r) for r in inst.log if r.status > FMI2_OK]
-        if warnings:
-            sys.exit("\n".join(warnings))
-        tr = rec.trajectory()
-        for name in u[0]:
-            tr.data[name] = np.array([x[name] for x in u])
-        return tr, cal, cpu
-    finally:
-        inst.terminate_and_free()
-
-
-def inv(x: float) -> float:
-    return math.tan(x) - x
+    """n communication steps from the static equilibrium with elastic teeth
+    (`helpers.coast_cases.simulate`, the tests' driver); `inputs(t)` set before each
+    doStep. Returns the trajectory (with the inputs as set), the calculated parameters and
+    the CPU time; exits on any status other than OK."""
+    tr, cal, statuses, above_ok, cpu = coast_cases.simulate(
+        pkg, "coast_figures", params, inputs, n, h=H, tolerance=TOLERANCE, record=NAMES,
+        calculated=coast_cases.CALCULATED + ["z1", "z2"])
+    bad = [k for k, status in enumerate(statuses) if status != FMI2_OK]
+    if bad:
+        sys.exit(f"doStep at {bad[0] * H:.4f} s returned {statuses[bad[0]]}:\n"
+                 + "\n".join(above_ok))
+    if above_ok:
+        sys.exit("\n".join(above_ok))
+    # The input held over each step, sampled with the state at its start (the last sample
+    # repeats the last input).
+    u = [inputs(k * H) for k in range(n)] + [inputs((n - 1) * H)]
+    for name in u[0]:
+        tr.data[name] = np.array([x[name] for x in u])
+    return tr, cal, cpu
 
 
 def reversal(pkg: FmuPackage) -> Path:
