@@ -19,7 +19,9 @@
 
 mod common;
 
-use common::stick::{phases, round_trip, rpm, spur};
+use common::stick::{
+    assert_same_instants, phases, regularised_law_deviations, round_trip, rpm, spur,
+};
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{Params, RELEASE_BAND};
 use geared_rotor::sim::{Input, Simulation, SolverSettings, StepReport};
@@ -197,28 +199,10 @@ fn stick_is_the_limit_of_the_regularised_law() {
     // stiff viscous damper and the line creeps. As v_reg -> 0 its solution must approach the
     // Filippov solution of law 1. Compared: the centre positions and TE at the end of a
     // 20 ms run at 100 rpm and 50 N m (five stick phases), relative to their range.
-    let (t_end, w, t_load) = (0.02, rpm(100.0), 50.0);
-    let (stick, changes) = run(
-        spur(0.05, FrictionLaw::Coulomb),
-        1e-9,
-        w,
-        t_load,
-        t_end,
-        1e-3,
+    let devs = regularised_law_deviations(
+        |law| spur(0.05, law),
+        |p| run(p, 1e-9, rpm(100.0), 50.0, 0.02, 1e-3),
     );
-    assert!(phases(&changes).len() >= 3, "{changes:?}");
-    let ys = *stick.y();
-    let scale = (0..6).map(|i| ys[i].abs()).fold(0.0, f64::max);
-    let mut devs = Vec::new();
-    for v_reg in [1e-3, 1e-4, 1e-5, 1e-6] {
-        let mut p = spur(0.05, FrictionLaw::RegularisedCoulomb);
-        p.friction.v_reg = v_reg;
-        let (reg, _) = run(p, 1e-9, w, t_load, t_end, 1e-3);
-        let yr = *reg.y();
-        let dev = (0..7).map(|i| (yr[i] - ys[i]).abs()).fold(0.0, f64::max) / scale;
-        println!("v_reg = {v_reg:e} m/s: largest deviation of u, TE {dev:.3e} of the largest displacement; {}", reg.stats());
-        devs.push(dev);
-    }
     // Converges: every tenfold smaller v_reg brings it closer (measured 2.8e-4, 1.7e-4,
     // 2.8e-5, 4.4e-6: ~6x per decade from 1e-4 m/s on), to 1e-5 at v_reg = 1e-6 m/s.
     assert!(devs.windows(2).all(|w| w[1] < w[0]), "{devs:?}");
@@ -228,20 +212,11 @@ fn stick_is_the_limit_of_the_regularised_law() {
 #[test]
 fn located_instants_do_not_depend_on_the_communication_step() {
     let p = spur(0.3, FrictionLaw::Coulomb);
-    let w = rpm(1000.0);
-    let mut all = Vec::new();
-    for h in [1e-3, 1e-4, 1e-5] {
-        let (_, changes) = run(p, 1e-9, w, 0.0, 0.01, h);
-        all.push(changes);
-    }
-    println!("{:?}", all[0]);
-    for other in &all[1..] {
-        assert_eq!(other.len(), all[0].len(), "{all:?}");
-        for (a, b) in all[0].iter().zip(other) {
-            assert_eq!(a.1, b.1);
-            assert!((a.0 - b.0).abs() <= 1e-9, "{a:?} vs {b:?}");
-        }
-    }
+    let all: Vec<_> = [1e-3, 1e-4, 1e-5]
+        .into_iter()
+        .map(|h| run(p, 1e-9, rpm(1000.0), 0.0, 0.01, h).1)
+        .collect();
+    assert_same_instants(&all);
 }
 
 #[test]

@@ -17,7 +17,7 @@
 
 mod common;
 
-use common::stick::{phases, round_trip, rpm};
+use common::stick::{assert_same_instants, phases, regularised_law_deviations, round_trip, rpm};
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{idx, Params, ToothContact, NY, RELEASE_BAND};
 use nalgebra::SVector;
@@ -184,32 +184,13 @@ fn elastic_stick_is_the_limit_of_the_regularised_law() {
     // Law 2 (v / sqrt(v^2 + v_reg^2)) has no stick mode; as v_reg -> 0 its solution must
     // approach the Filippov solution of law 1. Compared: centre positions and TE at the end
     // of 20 ms at 100 rpm and 50 N m, relative to the largest displacement.
-    let (t_end, w, t_load) = (0.02, rpm(100.0), 50.0);
-    let (stick, changes, _) = run(
-        spur(0.05, FrictionLaw::Coulomb),
-        1e-9,
-        w,
-        t_load,
-        t_end,
-        1e-3,
+    let devs = regularised_law_deviations(
+        |law| spur(0.05, law),
+        |p| {
+            let (sim, changes, _) = run(p, 1e-9, rpm(100.0), 50.0, 0.02, 1e-3);
+            (sim, changes)
+        },
     );
-    assert!(phases(&changes).len() >= 3, "{changes:?}");
-    let ys = *stick.y();
-    let scale = (0..6).map(|i| ys[i].abs()).fold(0.0, f64::max);
-    let mut devs = Vec::new();
-    for v_reg in [1e-3, 1e-4, 1e-5, 1e-6] {
-        let mut p = spur(0.05, FrictionLaw::RegularisedCoulomb);
-        p.friction.v_reg = v_reg;
-        let (reg, _, _) = run(p, 1e-9, w, t_load, t_end, 1e-3);
-        let yr = *reg.y();
-        let dev = (0..7).map(|i| (yr[i] - ys[i]).abs()).fold(0.0, f64::max) / scale;
-        println!(
-            "v_reg = {v_reg:e} m/s: largest deviation of u, TE {dev:.3e} of the largest \
-             displacement; {}",
-            reg.stats()
-        );
-        devs.push(dev);
-    }
     assert!(devs.windows(2).all(|w| w[1] < w[0]), "{devs:?}");
     assert!(devs[3] < 0.05 * devs[0] && devs[3] < 1e-5, "{devs:?}");
 }
@@ -217,20 +198,12 @@ fn elastic_stick_is_the_limit_of_the_regularised_law() {
 #[test]
 fn elastic_stick_instants_do_not_depend_on_the_communication_step() {
     let p = spur(0.3, FrictionLaw::Coulomb);
-    let mut all = Vec::new();
-    for h in [1e-3, 1e-4, 1e-5] {
-        let (_, changes, _) = run(p, 1e-9, rpm(1000.0), 0.0, 0.01, h);
-        all.push(changes);
-    }
-    println!("{:?}", all[0]);
+    let all: Vec<_> = [1e-3, 1e-4, 1e-5]
+        .into_iter()
+        .map(|h| run(p, 1e-9, rpm(1000.0), 0.0, 0.01, h).1)
+        .collect();
     assert!(!all[0].is_empty());
-    for other in &all[1..] {
-        assert_eq!(other.len(), all[0].len(), "{all:?}");
-        for (a, b) in all[0].iter().zip(other) {
-            assert_eq!(a.1, b.1);
-            assert!((a.0 - b.0).abs() <= 1e-9, "{a:?} vs {b:?}");
-        }
-    }
+    assert_same_instants(&all);
 }
 
 /// A reversed load: the coast flanks carry it, and their lines stick at the coast pitch

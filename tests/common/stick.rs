@@ -54,3 +54,46 @@ pub fn round_trip(sim: &Simulation) -> Simulation {
         .unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
     Simulation::from_state(&st).unwrap()
 }
+
+/// The end states' deviation of the regularised law 2 (v / sqrt(v^2 + v_reg^2), no stick
+/// mode) from the Filippov solution of law 1, for v_reg = 1e-3, 1e-4, 1e-5, 1e-6 m/s: the
+/// largest deviation of the centre positions and TE, relative to the largest displacement
+/// of the law-1 run. `pair(law)` is the pair with that law; `run` integrates it and returns
+/// the simulation and its stick changes (the law-1 run must have at least three phases).
+pub fn regularised_law_deviations(
+    pair: impl Fn(FrictionLaw) -> Params,
+    run: impl Fn(Params) -> (Simulation, Vec<(f64, bool)>),
+) -> Vec<f64> {
+    let (stick, changes) = run(pair(FrictionLaw::Coulomb));
+    assert!(phases(&changes).len() >= 3, "{changes:?}");
+    let ys = *stick.y();
+    let scale = (0..6).map(|i| ys[i].abs()).fold(0.0, f64::max);
+    let mut devs = Vec::new();
+    for v_reg in [1e-3, 1e-4, 1e-5, 1e-6] {
+        let mut p = pair(FrictionLaw::RegularisedCoulomb);
+        p.friction.v_reg = v_reg;
+        let (reg, _) = run(p);
+        let yr = *reg.y();
+        let dev = (0..7).map(|i| (yr[i] - ys[i]).abs()).fold(0.0, f64::max) / scale;
+        println!(
+            "v_reg = {v_reg:e} m/s: largest deviation of u, TE {dev:.3e} of the largest \
+             displacement; {}",
+            reg.stats()
+        );
+        devs.push(dev);
+    }
+    devs
+}
+
+/// Asserts that runs with different communication steps report the same stick changes,
+/// their instants within 1e-9 s.
+pub fn assert_same_instants(all: &[Vec<(f64, bool)>]) {
+    println!("{:?}", all[0]);
+    for other in &all[1..] {
+        assert_eq!(other.len(), all[0].len(), "{all:?}");
+        for (a, b) in all[0].iter().zip(other) {
+            assert_eq!(a.1, b.1);
+            assert!((a.0 - b.0).abs() <= 1e-9, "{a:?} vs {b:?}");
+        }
+    }
+}

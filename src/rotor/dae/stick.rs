@@ -276,7 +276,7 @@ impl GearedRotor {
 
     /// Adds to `fr`, the friction of the sliding lines at the normal force `lam`, the stick
     /// force (4.13) of the stuck line `st`, with `other` the generalised forces of any
-    /// other contact (the coast flanks of elastic teeth).
+    /// other contact (the coast flanks of elastic teeth); returns that force `F_w`.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn add_stick_force(
         &self,
@@ -287,7 +287,7 @@ impl GearedRotor {
         lam: f64,
         other: &[f64; 7],
         fr: &mut Friction,
-    ) {
+    ) -> f64 {
         let action = st.action(m, &self.geom);
         let row = self.stick_row_with(y, m, st, &action);
         let grow = self.geom.constraint_row(m);
@@ -297,6 +297,7 @@ impl GearedRotor {
         }
         let f_w = self.stick_force(t, y, &row, lam, &grow, &rest);
         Self::add_stick(fr, st, &action, f_w);
+        f_w
     }
 
     /// How far the stuck line is from slipping at y, in N: `mu |lambda| L_k / l - |F_w|`
@@ -347,18 +348,11 @@ impl GearedRotor {
         lam: f64,
         other: &[f64; 7],
     ) -> Option<(f64, f64)> {
-        let (z, m) = (*z, m);
         let (sums, mu) = self
-            .friction_mode(t, &z, m, lam, super::friction::Asker::Point, true)
+            .friction_mode(t, z, m, lam, super::friction::Asker::Point, true)
             .ok()?;
         let st = sums.stuck?;
-        let row = self.stick_row(&z, m, &st);
-        let grow = self.geom.constraint_row(m);
-        let mut rest = sums.resultants(mu, lam).generalised();
-        for (r, o) in rest.iter_mut().zip(other) {
-            *r += o;
-        }
-        let f_w = self.stick_force(t, &z, &row, lam, &grow, &rest);
+        let f_w = self.add_stick_force(t, z, m, &st, lam, other, &mut sums.resultants(mu, lam));
         // A line whose sliding is more than a thousandth of the rolling speed across a base
         // pitch from zero is not the stuck one (the stuck line left the contact).
         let far = 1e-3 * (z[idx::OMEGA1] + z[idx::V + 6]).abs() * self.geom.p_bt;
