@@ -329,6 +329,7 @@ struct RunResult {
 fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
     s.nfcn += d.nfcn;
     s.njac += d.njac;
+    s.njac_fast += d.njac_fast;
     s.nstep += d.nstep;
     s.naccpt += d.naccpt;
     s.nrejct += d.nrejct;
@@ -336,6 +337,7 @@ fn acc(s: &mut Statistics, m: &mut Statistics, d: &Statistics) {
     s.nsol += d.nsol;
     m.nfcn = m.nfcn.max(d.nfcn);
     m.njac = m.njac.max(d.njac);
+    m.njac_fast = m.njac_fast.max(d.njac_fast);
     m.nstep = m.nstep.max(d.nstep);
     m.naccpt = m.naccpt.max(d.naccpt);
     m.nrejct = m.nrejct.max(d.nrejct);
@@ -487,9 +489,9 @@ fn main() {
         std::thread::available_parallelism().map_or(0, |n| n.get())
     );
     println!(
-        "{:<22} {:>7} {:>9} {:>6} {:>6} | {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} | {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>5}",
+        "{:<22} {:>7} {:>9} {:>6} {:>6} | {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} | {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>5}",
         "case", "H [s]", "CPU/10ms", "x RT", "ratio", "med us", "p99", "p99.9", "max", "bestmx", "cpumx",
-        "steps", "rej", "newt", "jac", "lu", "nfcn", "mxfcn"
+        "steps", "rej", "newt", "jac", "jfast", "lu", "nfcn", "mxfcn"
     );
     // BENCH_H=1e-5 (or 1e-4) restricts the run to one communication step size.
     let only_h: Option<f64> = std::env::var("BENCH_H").ok().and_then(|s| s.parse().ok());
@@ -594,7 +596,7 @@ fn main() {
                 let n = r.n as f64;
                 let per = |x: u64| x as f64 / n;
                 println!(
-                "{:<22} {:>7.0e} {:>8.2}ms {:>6.1} {:>6.2} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} | {:>6.3} {:>6.3} {:>6.2} {:>6.3} {:>6.3} {:>6.2} {:>5}",
+                "{:<22} {:>7.0e} {:>8.2}ms {:>6.1} {:>6.2} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} {:>7.1} | {:>6.3} {:>6.3} {:>6.2} {:>6.3} {:>6.3} {:>6.3} {:>6.2} {:>5}",
                 label,
                 h,
                 cpu * 1e3,
@@ -610,6 +612,7 @@ fn main() {
                 per(r.sum.nrejct),
                 per(r.sum.nsol),
                 per(r.sum.njac),
+                per(r.sum.njac_fast),
                 per(r.sum.ndec),
                 per(r.sum.nfcn),
                 r.max.nfcn,

@@ -370,8 +370,8 @@ fn fields(blob: &[u8]) -> SnapshotFields {
     let h_next = y + 8 * NY + 8 + 3 * 8 * NY + 1;
     let h_old = h_next + 8;
     // Counters at the end: ..., action (u8), nsing (u64), naccpt_local, steps_since_stop,
-    // 7 statistics, checksum.
-    let nsing = s + n - 8 - 7 * 8 - 8 - 8 - 8;
+    // 8 statistics, checksum.
+    let nsing = s + n - 8 - 8 * 8 - 8 - 8 - 8;
     SnapshotFields {
         y,
         h_next,

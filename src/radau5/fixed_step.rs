@@ -60,6 +60,8 @@ impl<const N: usize> Radau5<N> {
         // As in `compute_jacobian`: J is overwritten from here on.
         s.jac_valid = false;
         s.lu_valid = false;
+        // Fixed steps renew the whole J on their schedule (no split, radau5.md §8).
+        s.split = false;
         let analytic =
             s.params.analytic_jac && problem.jacobian(t, &s.y, &mut s.jac).map_err(rhs_err)?;
         if analytic {

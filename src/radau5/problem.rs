@@ -32,6 +32,24 @@ pub trait Problem<const N: usize> {
         Ok(false)
     }
 
+    /// The part of `df/dy` that changes fast along a solution, evaluated apart from the
+    /// rest (radau5.md §8 "Split Jacobian"): `Ok(true)` with `fast` = F(t, y) where the
+    /// full Jacobian is `J = S + F` and S, the rest, changes slowly enough to be carried
+    /// from the last full evaluation. `Ok(false)` (the default): no such split, every
+    /// renewal is a full [`Problem::jacobian`]. Only asked where [`Problem::jacobian`]
+    /// gave an analytic J; it must then give the same split at the same point.
+    ///
+    /// # Errors
+    /// Whatever the problem cannot evaluate.
+    fn jacobian_fast(
+        &mut self,
+        _t: f64,
+        _y: &SVector<f64, N>,
+        _fast: &mut SMatrix<f64, N, N>,
+    ) -> Result<bool, RhsError> {
+        Ok(false)
+    }
+
     /// Constant mass matrix M of `M y' = f`; `None` = identity. Called once at construction.
     fn mass(&self) -> Option<SMatrix<f64, N, N>> {
         None

@@ -17,7 +17,10 @@ const MAGIC: [u8; 8] = *b"RADAU5SN";
 /// 2: `y_prev`, `f_prev` (for `Radau5::retake`) after `t_prev`.
 /// 3: `resume_after_stop` after `quot2`.
 /// 4: `norm_count` after `resume_after_stop`.
-const VERSION: u32 = 4;
+/// 5: the split Jacobian (`jac_slow`, `split`, `calfast`, `theta_full`, `fast_stale` after
+/// `jac_valid`;
+/// `njac_fast` after `njac`; action 3).
+const VERSION: u32 = 5;
 const HEADER_LEN: usize = 8 + 4 + 4 + 8;
 const CHECKSUM_LEN: usize = 8;
 
@@ -206,6 +209,7 @@ fn visit_params<const N: usize, I: Io>(io: &mut I, p: &mut Params<N>) -> Result<
 fn visit_stats<I: Io>(io: &mut I, s: &mut Statistics) -> Result<(), SnapshotError> {
     io.u64(&mut s.nfcn)?;
     io.u64(&mut s.njac)?;
+    io.u64(&mut s.njac_fast)?;
     io.u64(&mut s.nstep)?;
     io.u64(&mut s.naccpt)?;
     io.u64(&mut s.nrejct)?;
@@ -255,6 +259,11 @@ pub(super) fn visit<const N: usize, I: Io>(
     io.bool(&mut s.reject, "reject")?;
     io.bool(&mut s.caljac, "caljac")?;
     io.bool(&mut s.jac_valid, "jac_valid")?;
+    io.mat(&mut s.jac_slow)?;
+    io.bool(&mut s.split, "split")?;
+    io.bool(&mut s.calfast, "calfast")?;
+    io.f64(&mut s.theta_full)?;
+    io.bool(&mut s.fast_stale, "fast_stale")?;
     io.bool(&mut s.lu_valid, "lu_valid")?;
     io.bool(&mut s.prev_clipped, "prev_clipped")?;
     let mut a = s.action as u8;

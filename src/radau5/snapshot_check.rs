@@ -87,12 +87,22 @@ impl<const N: usize> Snapshot<N> {
         )?;
         require(vec_ok(&s.y), "y (must be finite)")?;
         require(vec_ok(&s.scal), "scal (must be finite)")?;
-        let history = [s.h_acc, s.err_acc, s.faccon, s.theta, s.dynold, s.thqold];
+        let history = [
+            s.h_acc,
+            s.err_acc,
+            s.faccon,
+            s.theta,
+            s.dynold,
+            s.thqold,
+            s.theta_full,
+        ];
         let mut copy = s.clone();
         if restart_due {
             copy.lu1 = super::linalg::RealLu::zeros();
             copy.lu2 = super::linalg::ComplexLu::zeros();
             copy.jac = SMatrix::zeros();
+            copy.jac_slow = SMatrix::zeros();
+            copy.theta_full = 0.0;
             copy.f0 = nalgebra::SVector::zeros();
             copy.cont = [nalgebra::SVector::zeros(); 4];
             copy.y_prev = nalgebra::SVector::zeros();
@@ -124,6 +134,10 @@ impl<const N: usize> Snapshot<N> {
             if !s.jac_valid {
                 copy.jac = SMatrix::zeros();
             }
+            // The slow part of a split J is read only with a valid J and the split flag.
+            if !(s.jac_valid && s.split) {
+                copy.jac_slow = SMatrix::zeros();
+            }
             if !s.f0_valid {
                 copy.f0 = nalgebra::SVector::zeros();
             }
@@ -147,7 +161,8 @@ impl<const N: usize> Snapshot<N> {
                     && s.faccon >= 0.0
                     && s.theta >= 0.0
                     && s.dynold >= 0.0
-                    && s.thqold >= 0.0),
+                    && s.thqold >= 0.0
+                    && s.theta_full >= 0.0),
             "Newton or controller history (must be >= 0)",
         )?;
         require(s.t_prev <= s.t, "t_prev (must be <= t)")?;

@@ -16,6 +16,8 @@ pub(crate) enum Action {
     Jacobian = 0,
     Decompose = 1,
     Step = 2,
+    /// Renew only the fast part of a split Jacobian (then decompose).
+    JacobianFast = 3,
 }
 
 impl Action {
@@ -24,6 +26,7 @@ impl Action {
             0 => Some(Action::Jacobian),
             1 => Some(Action::Decompose),
             2 => Some(Action::Step),
+            3 => Some(Action::JacobianFast),
             _ => None,
         }
     }
@@ -81,6 +84,16 @@ pub(crate) struct State<const N: usize> {
     /// `CALJAC`: the Jacobian was evaluated at the current point.
     pub caljac: bool,
     pub jac_valid: bool,
+    /// Split Jacobian (radau5.md §8): `jac_slow` = J - F at the last full evaluation,
+    /// valid while `split`; `calfast`: the fast part F was renewed at the current point;
+    /// `theta_full`: the contraction of the step right after the last full J;
+    /// `fast_stale`: a step right after a renewal of F contracted slower than `thet` and
+    /// than twice `theta_full`, so the slow part has aged too: the next renewal is full.
+    pub jac_slow: SMatrix<f64, N, N>,
+    pub split: bool,
+    pub calfast: bool,
+    pub theta_full: f64,
+    pub fast_stale: bool,
     pub lu_valid: bool,
     /// The last accepted step was shortened to land on its stop time.
     pub prev_clipped: bool,
@@ -168,6 +181,11 @@ impl<const N: usize> State<N> {
             reject: false,
             caljac: false,
             jac_valid: false,
+            jac_slow: SMatrix::zeros(),
+            split: false,
+            calfast: false,
+            theta_full: 0.0,
+            fast_stale: false,
             lu_valid: false,
             prev_clipped: false,
             action: Action::Jacobian,

@@ -154,6 +154,13 @@ impl<const N: usize> Radau5<N> {
             let hnew = s.h_next;
             h_planned = hnew;
             let reuse_j = s.theta <= p.thet && s.jac_valid;
+            // A J that has merely aged (the last step contracted slower than thet) gets
+            // its fast part renewed where the problem splits it (radau5.md §8).
+            let renew = if s.split && s.jac_valid && !s.fast_stale {
+                Action::JacobianFast
+            } else {
+                Action::Jacobian
+            };
             if t + hnew / p.quot1 >= t_stop {
                 h = t_stop - t;
                 last = true;
@@ -174,7 +181,7 @@ impl<const N: usize> Radau5<N> {
                     && s.lu_valid
                     && (h - s.h_lu).abs() <= 1e-9 * h + 8.0 * f64::EPSILON * t_stop.abs();
                 s.action = if !reuse_j {
-                    Action::Jacobian
+                    renew
                 } else if reuse_lu {
                     Action::Step
                 } else {
@@ -188,11 +195,7 @@ impl<const N: usize> Radau5<N> {
                     s.action = Action::Step;
                 } else {
                     h = hnew;
-                    s.action = if reuse_j {
-                        Action::Decompose
-                    } else {
-                        Action::Jacobian
-                    };
+                    s.action = if reuse_j { Action::Decompose } else { renew };
                 }
             }
         }
@@ -216,6 +219,16 @@ impl<const N: usize> Radau5<N> {
         if self.st.action == Action::Jacobian {
             self.compute_jacobian(problem, h)?;
             self.st.caljac = true;
+            self.st.jac_valid = true;
+            self.st.action = Action::Decompose;
+        }
+        if self.st.action == Action::JacobianFast {
+            // A declined split gives a full J.
+            if self.compute_jacobian_fast(problem, h)? {
+                self.st.calfast = true;
+            } else {
+                self.st.caljac = true;
+            }
             self.st.jac_valid = true;
             self.st.action = Action::Decompose;
         }
@@ -532,7 +545,16 @@ impl<const N: usize> Radau5<N> {
         s.t = xph;
         s.y = ynew;
         s.set_dense_output(tab, z1, z2, z3, h);
+        // A renewal of the fast part that left the contraction above thet and well above
+        // that after the last full J (which a J changing within the step can leave above
+        // thet by itself): the slow part has aged too.
+        if s.caljac {
+            s.theta_full = s.theta;
+        } else if s.calfast && s.theta > s.params.thet && s.theta > 2.0 * s.theta_full {
+            s.fast_stale = true;
+        }
         s.caljac = false;
+        s.calfast = false;
         if last {
             s.f0_valid = false;
         } else {
@@ -573,6 +595,8 @@ impl<const N: usize> Radau5<N> {
         if s.stats.naccpt >= 1 {
             s.stats.nrejct += 1;
         }
+        // As radau5.f: a new J after every rejection (a full one also where J is split:
+        // renewing only its fast part here was measured and dropped, radau5.md §8).
         s.action = next_matrices(s);
     }
 

@@ -6,7 +6,7 @@
 //! the Fortran keeps between steps lives in [`State`], so a step never depends on how the
 //! integration was cut into calls, except where a stop time shortens a step.
 
-use nalgebra::{Complex, SVector};
+use nalgebra::{Complex, SMatrix, SVector};
 
 use super::linear_systems::{Blocks, Elimination, MassPattern};
 use super::options::{transform_tolerances, Params};
@@ -79,7 +79,7 @@ pub(super) fn eval<P: Problem<N>, const N: usize>(
     f: &mut SVector<f64, N>,
 ) -> Result<(), Failure> {
     problem.rhs(t, y, f).map_err(Failure::Rhs)?;
-    if f.iter().all(|v| v.is_finite()) {
+    if f.as_slice().iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
         Err(Failure::NonFinite)
@@ -442,7 +442,16 @@ impl<const N: usize> Radau5<N> {
             h,
             message: e.message,
         };
+        s.split = false;
         if s.params.analytic_jac && problem.jacobian(t, &s.y, &mut s.jac).map_err(to_err)? {
+            // Split Jacobian (radau5.md §8): keep the slow part S = J - F for the renewals
+            // of F alone.
+            let mut fast = SMatrix::<f64, N, N>::zeros();
+            if problem.jacobian_fast(t, &s.y, &mut fast).map_err(to_err)? {
+                s.jac_slow = s.jac - fast;
+                s.split = true;
+                s.fast_stale = false;
+            }
             return Ok(());
         }
         let mut ytmp = s.y;
@@ -465,6 +474,35 @@ impl<const N: usize> Radau5<N> {
             ytmp[i] = ysafe;
         }
         Ok(())
+    }
+
+    /// Renews only the fast part of a split Jacobian at the current point, `J = S + F(t,
+    /// y)` (radau5.md §8), and returns true; a full [`Radau5::compute_jacobian`] where the
+    /// problem declines (false).
+    pub(super) fn compute_jacobian_fast<P: Problem<N>>(
+        &mut self,
+        problem: &mut P,
+        h: f64,
+    ) -> Result<bool, Error> {
+        let s = &mut self.st;
+        let t = s.t;
+        let mut fast = SMatrix::<f64, N, N>::zeros();
+        let given = problem
+            .jacobian_fast(t, &s.y, &mut fast)
+            .map_err(|e| Error::Rhs {
+                t,
+                h,
+                message: e.message,
+            })?;
+        if !given {
+            self.compute_jacobian(problem, h)?;
+            return Ok(false);
+        }
+        s.stats.njac_fast += 1;
+        s.jac = s.jac_slow + fast;
+        // J changed: the LU pair belongs to the old one.
+        s.lu_valid = false;
+        Ok(true)
     }
 
     /// Builds and factorises `E1 = (gamma/h) M - J` and `E2 = ((alpha + i beta)/h) M - J`

@@ -213,6 +213,8 @@ const fn st(
     Statistics {
         nfcn,
         njac,
+        // No Fortran counterpart: these problems give no split Jacobian.
+        njac_fast: 0,
         nstep,
         naccpt,
         nrejct,
