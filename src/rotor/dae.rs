@@ -22,6 +22,14 @@ pub use stick::{RELEASE_BAND, STICK_RELAXATION};
 
 use friction::Asker;
 
+/// Which part of df/dy an evaluation gives: all of it, or the fast part of the split
+/// (`GearedRotor::jacobian_fast`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum JacobianPart {
+    Full,
+    Fast,
+}
+
 /// Start state for [`GearedRotor::initialize_with`] (`model.md` §7).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct InitialConditions {
@@ -75,6 +83,9 @@ pub struct GearedRotor {
     /// No Jacobian for the stepper (it takes forward differences of f): the reference the
     /// tests hold the elastic contact's chain-rule Jacobian against.
     difference_jacobian: bool,
+    /// No split Jacobian (`jacobian_fast` declines): every renewal a full one, the
+    /// reference the tests hold the split against.
+    whole_jacobian: bool,
 }
 
 fn mesh_err(t: f64, e: MeshError) -> ModelError {
@@ -181,6 +192,7 @@ impl GearedRotor {
             elastic,
             coast,
             difference_jacobian: false,
+            whole_jacobian: false,
         })
     }
 
@@ -395,7 +407,9 @@ impl GearedRotor {
             // Velocity-level constraint (§3.3).
             f[idx::LAMBDA] = gv - g.rb1 * g.cos_beta_b * omega1;
         }
-        if !f.iter().all(|x| x.is_finite()) {
+        // On the contiguous slice: nalgebra's element iterator is a strided loop (about
+        // 5x slower here).
+        if !f.as_slice().iter().all(|x| x.is_finite()) {
             return Err(ModelError::NonFinite { t, what: "f" });
         }
         Ok(())
@@ -444,11 +458,45 @@ impl GearedRotor {
             return false;
         }
         match &self.elastic {
-            None => self.eval_jacobian(t, y, jac, &mut [0.0; NY]).is_ok(),
+            None => self
+                .eval_jacobian(t, y, jac, &mut [0.0; NY], JacobianPart::Full)
+                .is_ok(),
             // The elastic contact (§3.5): the chain rule through Fn(y), for the drive flanks;
             // while the coast flanks touch (§3.6) the stepper's differences of f.
             Some(e) => {
-                !self.coast_touches(t, y) && self.eval_elastic_jacobian(e, t, y, jac).is_ok()
+                !self.coast_touches(t, y)
+                    && self
+                        .eval_elastic_jacobian(e, t, y, jac, JacobianPart::Full)
+                        .is_ok()
+            }
+        }
+    }
+
+    /// The fast part F of the split Jacobian `J = S + F` (radau5 `Problem::jacobian_fast`,
+    /// `model.md` §3.5 "Cost"): with elastic teeth, J without the friction columns'
+    /// differences and without the contact length's gradient in dFn/dy. What it keeps
+    /// follows the mesh stiffness `c_l l(t)` and the force Fn, which change within a mesh
+    /// period; what it leaves to S (friction ~ mu Fn, `q dl/dy`) changes the Newton matrix
+    /// little (the stepper renews S when the contraction says so). It costs about 2 f
+    /// against about 19 f for J. False where [`GearedRotor::jacobian`] declines, and for
+    /// rigid teeth: their J has no such stiffness (the constraint row is exact in every J),
+    /// and they keep radau5.f's full renewals and so their results.
+    pub fn jacobian_fast(
+        &mut self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        jac: &mut SMatrix<f64, NY, NY>,
+    ) -> bool {
+        if self.stick || self.difference_jacobian || self.whole_jacobian {
+            return false;
+        }
+        match &self.elastic {
+            None => false,
+            Some(e) => {
+                !self.coast_touches(t, y)
+                    && self
+                        .eval_elastic_jacobian(e, t, y, jac, JacobianPart::Fast)
+                        .is_ok()
             }
         }
     }
@@ -460,16 +508,24 @@ impl GearedRotor {
         self.difference_jacobian = on;
     }
 
+    /// Test switch: `true` makes [`GearedRotor::jacobian_fast`] decline, so that every
+    /// renewal of J is a full one (the reference for the split Jacobian).
+    #[doc(hidden)]
+    pub fn set_whole_jacobian(&mut self, on: bool) {
+        self.whole_jacobian = on;
+    }
+
     /// The rigid model's Jacobian at y's own lambda (for the elastic contact: at lambda :=
     /// Fn(y), `elastic_jacobian`). `dl` receives the one-sided differences of the contact
     /// length l (3.12) that the friction columns evaluate anyway (positions and phi1; 0
-    /// elsewhere).
+    /// elsewhere). [`JacobianPart::Fast`] leaves out the friction columns (and so `dl`).
     fn eval_jacobian(
         &self,
         t: f64,
         y: &SVector<f64, NY>,
         jac: &mut SMatrix<f64, NY, NY>,
         dl: &mut [f64; NY],
+        part: JacobianPart,
     ) -> Result<(), ModelError> {
         let g = &self.geom;
         let (v, lam_i) = (idx::V, idx::LAMBDA);
@@ -483,7 +539,8 @@ impl GearedRotor {
         let omega1_dot = y[idx::OMEGA1_DOT];
         let t_load = self.inputs.t_load_at(t);
         let j1 = self.params.rotor1.j;
-        jac.fill(0.0);
+        // A memset (nalgebra's `fill` is a strided loop: ~80 % of this function's time).
+        jac.as_mut_slice().fill(0.0);
         // q' = v, xi' = r_b2 omega2 - r_b1 omega1.
         for i in 0..6 {
             jac[(i, v + i)] = 1.0;
@@ -560,6 +617,9 @@ impl GearedRotor {
             }
             jac[(idx::E_IN, lam_i)] += -sgn * pu * sums.moment1.z * omega1;
             jac[(idx::E_LOSS, lam_i)] = sgn * pu * sums.w;
+        }
+        if part == JacobianPart::Fast {
+            return Ok(());
         }
         // Friction derivatives by one-sided differences of the friction evaluation only.
         let base = fr.generalised();

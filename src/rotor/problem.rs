@@ -32,6 +32,14 @@ impl Problem<NY> for RotorProblem {
     ) -> Result<bool, RhsError> {
         Ok(self.model.jacobian(t, y, jac))
     }
+    fn jacobian_fast(
+        &mut self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        fast: &mut SMatrix<f64, NY, NY>,
+    ) -> Result<bool, RhsError> {
+        Ok(self.model.jacobian_fast(t, y, fast))
+    }
     fn mass(&self) -> Option<SMatrix<f64, NY, NY>> {
         Some(self.model.mass())
     }

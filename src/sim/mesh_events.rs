@@ -69,6 +69,14 @@ impl Problem<NY> for PhaseAhead<'_> {
     ) -> Result<bool, RhsError> {
         self.inner.jacobian(t, y, jac)
     }
+    fn jacobian_fast(
+        &mut self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        fast: &mut SMatrix<f64, NY, NY>,
+    ) -> Result<bool, RhsError> {
+        self.inner.jacobian_fast(t, y, fast)
+    }
     fn mass(&self) -> Option<SMatrix<f64, NY, NY>> {
         self.inner.mass()
     }

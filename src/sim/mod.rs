@@ -314,6 +314,12 @@ impl Simulation {
         self.problem.model.set_difference_jacobian(on);
     }
 
+    /// Test switch: every renewal of J a full one ([`GearedRotor::set_whole_jacobian`]).
+    #[doc(hidden)]
+    pub fn set_whole_jacobian(&mut self, on: bool) {
+        self.problem.model.set_whole_jacobian(on);
+    }
+
     /// RADAU5 counters since the start.
     pub fn stats(&self) -> &Statistics {
         self.solver.stats()

@@ -14,7 +14,7 @@
 //! contact length with their gradients ([`FlankState`]), so that a second contact (a coast
 //! flank) adds its terms the same way with its own state and lambda column.
 
-use super::{ElasticMesh, GearedRotor};
+use super::{ElasticMesh, GearedRotor, JacobianPart};
 use crate::rotor::{idx, ModelError, NY};
 use nalgebra::{SMatrix, SVector};
 
@@ -95,10 +95,13 @@ impl FlankGradients {
 /// = df/dF at fixed F. Nothing where dF/dy = 0 (free flight, damping clipped), so that a
 /// non-finite entry of `col` there does not spread.
 pub(super) fn add_force_columns(jac: &mut SMatrix<f64, NY, NY>, col: &Grad, d_fn: &Grad) {
-    for (j, &dj) in d_fn.iter().enumerate() {
+    let col = col.as_slice();
+    // On the column-major storage (column j is the j-th chunk of NY): nalgebra's element
+    // iterators are strided loops, half of this Jacobian's cost.
+    for (jcol, &dj) in jac.as_mut_slice().chunks_exact_mut(NY).zip(d_fn.as_slice()) {
         if dj != 0.0 {
-            for (i, &ci) in col.iter().enumerate() {
-                jac[(i, j)] += ci * dj;
+            for (x, &ci) in jcol.iter_mut().zip(col) {
+                *x += ci * dj;
             }
         }
     }
@@ -116,6 +119,7 @@ impl GearedRotor {
         t: f64,
         y: &SVector<f64, NY>,
         jac: &mut SMatrix<f64, NY, NY>,
+        part: JacobianPart,
     ) -> Result<(), ModelError> {
         let g = &self.geom;
         let lam_i = idx::LAMBDA;
@@ -132,7 +136,8 @@ impl GearedRotor {
         let mut z = *y;
         z[lam_i] = flank_force(e, delta, delta_dot, length);
         let mut dl = [0.0; NY];
-        self.eval_jacobian(t, &z, jac, &mut dl)?;
+        // The fast part (`GearedRotor::jacobian_fast`) has no friction columns and no dl.
+        self.eval_jacobian(t, &z, jac, &mut dl, part)?;
         // d delta/dy: -G for u (G = cos beta_b dg/dq, (3.9)); -cos beta_b for xi (dg/dxi = 1
         // in (3.7)); delta does not depend on phi1.
         let mut d_delta = Grad::zeros();
@@ -167,7 +172,7 @@ impl GearedRotor {
         jac.row_mut(lam_i).copy_from(&grads.d_p_spring.transpose());
         let mut r = jac.row_mut(idx::E_MESH_DAMP);
         r += grads.d_p_damp.transpose();
-        if !jac.iter().all(|x| x.is_finite()) {
+        if !jac.as_slice().iter().all(|x| x.is_finite()) {
             return Err(ModelError::NonFinite {
                 t,
                 what: "Jacobian",
