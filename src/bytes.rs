@@ -20,7 +20,8 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// 7: the backlash `j_bn` in the parameter table (coast flanks of the elastic contact).
 /// 8: 23 state components (the mesh damping's energy before lambda); RADAU5's norm count.
 /// 9: after the impact count, the flank (drive/coast) whose line sticks or was released.
-pub const VERSION: u32 = 9;
+/// 10: RADAU5 snapshot v5 (the split Jacobian's slow part and flags, `njac_fast`).
+pub const VERSION: u32 = 10;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]
