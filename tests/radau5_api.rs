@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::radau5::{opts, pendulum2, pendulum2_opts};
+use common::radau5::{check_snapshots_continue, opts, pendulum2, pendulum2_opts};
 use common::radau5_problems::{Robertson, VanDerPol};
 use geared_rotor::radau5::{
     Error, Options, Problem, Radau5, Retake, RhsError, Snapshot, SnapshotError, Tolerance,
@@ -502,26 +502,7 @@ fn snapshot_is_complete_at_every_step() {
     let (mut p, y0) = pendulum2();
     let o = pendulum2_opts(1e-5);
     let mut s = Radau5::new(&mut p, o, 0.0, y0).unwrap();
-    let mut snaps = Vec::new();
-    let mut traj = Vec::new();
-    for k in 0..60 {
-        snaps.push(s.snapshot().to_bytes());
-        // alternate stop times so that clipped steps are covered too
-        let t_stop = if k % 7 == 3 { s.t() + 1e-3 } else { 3.0 };
-        s.step(&mut p, t_stop).unwrap();
-        traj.push((t_stop, s.t().to_bits(), s.y().map(f64::to_bits), *s.stats()));
-    }
-    for (k, bytes) in snaps.iter().enumerate() {
-        let snap = Snapshot::<5>::from_bytes(bytes).unwrap();
-        let mut r = Radau5::new(&mut p, opts(1e-2), 1.0, SVector::zeros()).unwrap();
-        r.restore(&snap);
-        for (t_stop, t, y, st) in &traj[k..] {
-            r.step(&mut p, *t_stop).unwrap();
-            assert_eq!(r.t().to_bits(), *t, "from snapshot {k}");
-            assert_eq!(r.y().map(f64::to_bits), *y, "from snapshot {k}");
-            assert_eq!(r.stats(), st, "from snapshot {k}");
-        }
-    }
+    check_snapshots_continue(&mut p, &mut s, 60, 3.0, 1e-3);
 }
 
 /// `Radau5::retake` (co-simulation, radau5 module docs): the last accepted step redone so

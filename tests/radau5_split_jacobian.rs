@@ -6,8 +6,8 @@
 
 mod common;
 
-use common::radau5::opts;
-use geared_rotor::radau5::{Options, Problem, Radau5, RhsError, Snapshot, Statistics, Tolerance};
+use common::radau5::check_snapshots_continue;
+use geared_rotor::radau5::{Options, Problem, Radau5, RhsError, Statistics, Tolerance};
 use nalgebra::{SMatrix, SVector};
 
 /// `y = (x, x')`; `k(t) = K (1 + 0.5 sin(W t))` is the fast part of J; the damping
@@ -145,25 +145,7 @@ fn snapshot_carries_the_split() {
     };
     let y0 = SVector::<f64, 2>::new(0.0, 0.0);
     let mut s = Radau5::new(&mut p, tolerances(1e-6), 0.0, y0).unwrap();
-    let mut snaps = Vec::new();
-    let mut traj = Vec::new();
-    for k in 0..80 {
-        snaps.push(s.snapshot().to_bytes());
-        let t_stop = if k % 7 == 3 { s.t() + 1e-4 } else { T_END };
-        s.step(&mut p, t_stop).unwrap();
-        traj.push((t_stop, s.t().to_bits(), s.y().map(f64::to_bits), *s.stats()));
-    }
+    check_snapshots_continue(&mut p, &mut s, 80, T_END, 1e-4);
     let st = *s.stats();
     assert!(st.njac_fast > 0 && st.njac > 1, "{st}");
-    for (k, bytes) in snaps.iter().enumerate() {
-        let snap = Snapshot::<2>::from_bytes(bytes).unwrap();
-        let mut r = Radau5::new(&mut p, opts(1e-2), 1.0, SVector::zeros()).unwrap();
-        r.restore(&snap);
-        for (t_stop, t, y, st) in &traj[k..] {
-            r.step(&mut p, *t_stop).unwrap();
-            assert_eq!(r.t().to_bits(), *t, "from snapshot {k}");
-            assert_eq!(r.y().map(f64::to_bits), *y, "from snapshot {k}");
-            assert_eq!(r.stats(), st, "from snapshot {k}");
-        }
-    }
 }

@@ -1,7 +1,7 @@
 //! Set-up shared by the RADAU5 tests.
 
 use super::radau5_problems::Pendulum2;
-use geared_rotor::radau5::{Options, Tolerance};
+use geared_rotor::radau5::{Options, Problem, Radau5, Snapshot, Tolerance};
 use nalgebra::SVector;
 
 /// Default options with rtol = atol = tol.
@@ -28,5 +28,38 @@ pub fn pendulum2_opts(tol: f64) -> Options<5> {
         n1: 4,
         n2: 1,
         ..opts(tol)
+    }
+}
+
+/// Takes `steps` steps of `s` towards `t_end` (every seventh one to a stop time `ahead`
+/// of t instead, so that clipped steps are covered too), with a snapshot in bytes before
+/// each; then continues from every snapshot in a fresh stepper (built with other options,
+/// which the restore replaces) and checks that t, y and the counters repeat bit for bit.
+#[allow(dead_code)]
+pub fn check_snapshots_continue<P: Problem<N>, const N: usize>(
+    p: &mut P,
+    s: &mut Radau5<N>,
+    steps: usize,
+    t_end: f64,
+    ahead: f64,
+) {
+    let mut snaps = Vec::new();
+    let mut traj = Vec::new();
+    for k in 0..steps {
+        snaps.push(s.snapshot().to_bytes());
+        let t_stop = if k % 7 == 3 { s.t() + ahead } else { t_end };
+        s.step(p, t_stop).unwrap();
+        traj.push((t_stop, s.t().to_bits(), s.y().map(f64::to_bits), *s.stats()));
+    }
+    for (k, bytes) in snaps.iter().enumerate() {
+        let snap = Snapshot::<N>::from_bytes(bytes).unwrap();
+        let mut r = Radau5::new(p, opts(1e-2), 1.0, SVector::zeros()).unwrap();
+        r.restore(&snap);
+        for (t_stop, t, y, st) in &traj[k..] {
+            r.step(p, *t_stop).unwrap();
+            assert_eq!(r.t().to_bits(), *t, "from snapshot {k}");
+            assert_eq!(r.y().map(f64::to_bits), *y, "from snapshot {k}");
+            assert_eq!(r.stats(), st, "from snapshot {k}");
+        }
     }
 }
