@@ -142,23 +142,24 @@ impl GearedRotor {
         // Free flight (delta <= 0): no force, no friction, and f needs neither the contact
         // length nor the friction sums (a quarter of a rattle's instructions). The
         // contact's `length` and `stiffness` are then 0: not evaluated.
-        let g = &self.geom;
-        if !(-g.cos_beta_b * (g.gap_raw(m, y[idx::Q + 6]) + self.g0) > 0.0) {
+        // The approach once per f (the gap's involute costs a tan).
+        let delta = self.approach(y, m, self.g0);
+        if !(delta > 0.0) {
             return Ok((
-                self.flank_contact(y, m, self.g0, 0.0),
+                self.flank_contact_with(y, m, delta, 0.0),
                 Friction::default(),
                 None,
             ));
         }
         let mut c = ElasticContact::default();
         match self.friction_for_load(t, y, m, Asker::Integrator, self.stick, |length| {
-            c = self.flank_contact(y, m, self.g0, length);
+            c = self.flank_contact_with(y, m, delta, length);
             c.fn_
         }) {
             Ok((sums, mu, fn_)) => Ok((c, sums.resultants(mu, fn_), sums.stuck)),
             // No drive line active (a vibration that moves the centres far): l = 0.
             Err(ModelError::NoContact { .. }) => Ok((
-                self.flank_contact(y, m, self.g0, 0.0),
+                self.flank_contact_with(y, m, delta, 0.0),
                 Friction::default(),
                 None,
             )),
@@ -175,6 +176,23 @@ impl GearedRotor {
         g0: f64,
         length: f64,
     ) -> ElasticContact {
+        self.flank_contact_with(y, m, self.approach(y, m, g0), length)
+    }
+
+    /// The normal approach delta (3.13) at y (mesh `m`, gap offset `g0`), m.
+    fn approach(&self, y: &SVector<f64, NY>, m: &Mesh, g0: f64) -> f64 {
+        let g = &self.geom;
+        -g.cos_beta_b * (g.gap_raw(m, y[idx::Q + 6]) + g0)
+    }
+
+    /// [`GearedRotor::flank_contact`] with its approach `delta` given.
+    fn flank_contact_with(
+        &self,
+        y: &SVector<f64, NY>,
+        m: &Mesh,
+        delta: f64,
+        length: f64,
+    ) -> ElasticContact {
         let Some(e) = self.elastic.as_ref() else {
             return ElasticContact::default();
         };
@@ -184,7 +202,6 @@ impl GearedRotor {
         for (i, gi) in grow.iter().enumerate() {
             gv += gi * y[idx::V + i];
         }
-        let delta = -g.cos_beta_b * (g.gap_raw(m, y[idx::Q + 6]) + g0);
         let delta_dot = -(gv - g.rb1 * g.cos_beta_b * y[idx::OMEGA1]);
         let stiffness = e.c_l * length;
         let mut c = ElasticContact {
