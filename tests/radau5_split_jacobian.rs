@@ -7,7 +7,7 @@
 mod common;
 
 use common::radau5::check_snapshots_continue;
-use geared_rotor::radau5::{Options, Problem, Radau5, RhsError, Statistics, Tolerance};
+use geared_rotor::radau5::{Error, Options, Problem, Radau5, RhsError, Statistics, Tolerance};
 use nalgebra::{SMatrix, SVector};
 
 /// `y = (x, x')`; `k(t) = K (1 + 0.5 sin(W t))` is the fast part of J; the damping
@@ -16,6 +16,21 @@ use nalgebra::{SMatrix, SVector};
 struct Parametric {
     a_c: f64,
     split: bool,
+    /// `jacobian` declines (the stepper takes differences of f) for t in this interval.
+    declines: (f64, f64),
+    /// `jacobian_fast` fails from this time on.
+    fast_fails_from: f64,
+}
+
+impl Parametric {
+    fn new(a_c: f64, split: bool) -> Self {
+        Parametric {
+            a_c,
+            split,
+            declines: (f64::INFINITY, f64::INFINITY),
+            fast_fails_from: f64::INFINITY,
+        }
+    }
 }
 
 const K: f64 = 1e6;
@@ -49,7 +64,7 @@ impl Problem<2> for Parametric {
         j: &mut SMatrix<f64, 2, 2>,
     ) -> Result<bool, RhsError> {
         *j = SMatrix::<f64, 2, 2>::new(0.0, 1.0, -Self::k(t), -self.c(t));
-        Ok(true)
+        Ok(!(self.declines.0..=self.declines.1).contains(&t))
     }
     fn jacobian_fast(
         &mut self,
@@ -57,6 +72,9 @@ impl Problem<2> for Parametric {
         _y: &SVector<f64, 2>,
         fast: &mut SMatrix<f64, 2, 2>,
     ) -> Result<bool, RhsError> {
+        if t >= self.fast_fails_from {
+            return Err(RhsError::new("fast part undefined"));
+        }
         *fast = SMatrix::<f64, 2, 2>::new(0.0, 0.0, -Self::k(t), 0.0);
         Ok(self.split)
     }
@@ -74,7 +92,7 @@ fn tolerances(rtol: f64) -> Options<2> {
 }
 
 fn run(a_c: f64, split: bool, rtol: f64) -> (SVector<f64, 2>, Statistics) {
-    let mut p = Parametric { a_c, split };
+    let mut p = Parametric::new(a_c, split);
     let y0 = SVector::<f64, 2>::new(0.0, 0.0);
     let mut s = Radau5::new(&mut p, tolerances(rtol), 0.0, y0).unwrap();
     s.integrate_to(&mut p, T_END).unwrap();
@@ -139,13 +157,91 @@ fn split_falls_back_to_full_renewals_when_the_rest_ages() {
 /// renewals, their fall-backs and the stale flag all occur) continues bit-identically.
 #[test]
 fn snapshot_carries_the_split() {
-    let mut p = Parametric {
-        a_c: 0.5,
-        split: true,
-    };
+    let mut p = Parametric::new(0.5, true);
     let y0 = SVector::<f64, 2>::new(0.0, 0.0);
     let mut s = Radau5::new(&mut p, tolerances(1e-6), 0.0, y0).unwrap();
     check_snapshots_continue(&mut p, &mut s, 80, T_END, 1e-4);
     let st = *s.stats();
     assert!(st.njac_fast > 0 && st.njac > 1, "{st}");
+}
+
+/// Steps of a split run, each with its start time and the full and fast renewals it took.
+fn renewals(p: &mut Parametric, options: Options<2>) -> Vec<(f64, u64, u64)> {
+    let mut s = Radau5::new(p, options, 0.0, SVector::zeros()).unwrap();
+    let mut out = Vec::new();
+    while s.t() < T_END {
+        let (t, before) = (s.t(), *s.stats());
+        s.step(p, T_END).unwrap();
+        let d = s.stats().since(&before);
+        out.push((t, d.njac, d.njac_fast));
+    }
+    out
+}
+
+/// Where the problem gives no analytic J (here for 0.05 <= t <= 0.1) the stepper takes
+/// differences of f, and S (from the last analytic J) must not be combined with a new F
+/// until the next analytic J: no fast renewal from the first J by differences until a full
+/// J after the interval; before and after it, fast renewals.
+#[test]
+fn differences_end_the_split_until_the_next_analytic_jacobian() {
+    let mut p = Parametric::new(0.0, true);
+    p.declines = (0.05, 0.1);
+    let steps = renewals(&mut p, tolerances(1e-6));
+    let first_fd = steps
+        .iter()
+        .position(|&(t, nj, _)| t >= 0.05 && nj > 0)
+        .expect("a J in the interval");
+    let next_analytic = first_fd
+        + steps[first_fd..]
+            .iter()
+            .position(|&(t, nj, _)| t > 0.1 && nj > 0)
+            .expect("a full J after the interval");
+    let fast_between: u64 = steps[first_fd..next_analytic].iter().map(|s| s.2).sum();
+    let fast_before: u64 = steps[..first_fd].iter().map(|s| s.2).sum();
+    let fast_after: u64 = steps[next_analytic..].iter().map(|s| s.2).sum();
+    println!(
+        "fast renewals before {fast_before}, with differences {fast_between} ({} steps), \
+         after {fast_after}",
+        next_analytic - first_fd
+    );
+    assert_eq!(fast_between, 0);
+    assert!(next_analytic - first_fd > 10);
+    assert!(fast_before > 0 && fast_after > 0);
+}
+
+/// A negative `theta_jac` asks for a J after every accepted step (radau5.f's meaning):
+/// full ones, also where the problem splits J.
+#[test]
+fn negative_theta_jac_renews_the_whole_jacobian() {
+    let mut p = Parametric::new(0.0, true);
+    let options = Options {
+        theta_jac: -1.0,
+        ..tolerances(1e-6)
+    };
+    let steps = renewals(&mut p, options);
+    let fast: u64 = steps.iter().map(|s| s.2).sum();
+    let full: u64 = steps.iter().map(|s| s.1).sum();
+    assert_eq!(fast, 0);
+    assert!(
+        full as usize >= steps.len(),
+        "{full} J in {} steps",
+        steps.len()
+    );
+}
+
+/// A fast part that cannot be evaluated ends the step with the problem's error (typed,
+/// with t), as a failing J does.
+#[test]
+fn failing_fast_part_is_a_typed_error() {
+    let mut p = Parametric::new(0.0, true);
+    p.fast_fails_from = 0.05;
+    let mut s = Radau5::new(&mut p, tolerances(1e-6), 0.0, SVector::zeros()).unwrap();
+    let e = s.integrate_to(&mut p, T_END).unwrap_err();
+    match e {
+        Error::Rhs { t, message, .. } => {
+            assert!(t >= 0.05 && t < 0.06, "{t}");
+            assert!(message.contains("fast part undefined"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
 }

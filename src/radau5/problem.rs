@@ -36,8 +36,11 @@ pub trait Problem<const N: usize> {
     /// rest (radau5.md §8 "Split Jacobian"): `Ok(true)` with `fast` = F(t, y) where the
     /// full Jacobian is `J = S + F` and S, the rest, changes slowly enough to be carried
     /// from the last full evaluation. `Ok(false)` (the default): no such split, every
-    /// renewal is a full [`Problem::jacobian`]. Only asked where [`Problem::jacobian`]
-    /// gave an analytic J; it must then give the same split at the same point.
+    /// renewal is a full [`Problem::jacobian`]. Asked right after every analytic J, at
+    /// the same point (where it must give the split of that J), and where J is renewed:
+    /// there S is the one of the last analytic J, even if [`Problem::jacobian`] would
+    /// decline at this point; after a J by differences there is no S until the next
+    /// analytic J (every renewal full).
     ///
     /// # Errors
     /// Whatever the problem cannot evaluate.

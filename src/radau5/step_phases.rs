@@ -155,8 +155,9 @@ impl<const N: usize> Radau5<N> {
             h_planned = hnew;
             let reuse_j = s.theta <= p.thet && s.jac_valid;
             // A J that has merely aged (the last step contracted slower than thet) gets
-            // its fast part renewed where the problem splits it (radau5.md §8).
-            let renew = if s.split && s.jac_valid && !s.fast_stale {
+            // its fast part renewed where the problem splits it (radau5.md §8); a negative
+            // thet asks for a full J after every step, as in the Fortran.
+            let renew = if s.split && s.jac_valid && !s.fast_stale && p.thet >= 0.0 {
                 Action::JacobianFast
             } else {
                 Action::Jacobian
@@ -549,7 +550,9 @@ impl<const N: usize> Radau5<N> {
         // that after the last full J (which a J changing within the step can leave above
         // thet by itself): the slow part has aged too.
         if s.caljac {
-            s.theta_full = s.theta;
+            // Capped: a full J whose step still contracted slowly must not switch the
+            // fall-back off.
+            s.theta_full = s.theta.min(THETA_FULL_MAX);
         } else if s.calfast && s.theta > s.params.thet && s.theta > 2.0 * s.theta_full {
             s.fast_stale = true;
         }
@@ -658,6 +661,10 @@ impl<const N: usize> Radau5<N> {
         Ok(())
     }
 }
+
+/// Cap of the contraction after a full J against which a renewal of the fast part of a
+/// split J is judged (radau5.md §8).
+const THETA_FULL_MAX: f64 = 0.1;
 
 /// After a failed attempt: a new LU pair if J was computed in this step, else a new J
 /// (`IF (CALJAC) GOTO 20; GOTO 10`).

@@ -474,11 +474,13 @@ impl GearedRotor {
 
     /// The fast part F of the split Jacobian `J = S + F` (radau5 `Problem::jacobian_fast`,
     /// `model.md` §3.5 "Cost"): with elastic teeth, J without the friction columns'
-    /// differences and without the contact length's gradient in dFn/dy. What it keeps
-    /// follows the mesh stiffness `c_l l(t)` and the force Fn, which change within a mesh
-    /// period; what it leaves to S (friction ~ mu Fn, `q dl/dy`) changes the Newton matrix
-    /// little (the stepper renews S when the contraction says so). It costs about 2 f
-    /// against about 19 f for J. False where [`GearedRotor::jacobian`] declines, and for
+    /// differences and without the contact length's gradient dl/dy (in dFn/dy and in the
+    /// rates of the spring's work and the mesh damping's energy, two quadrature rows).
+    /// What it keeps follows the mesh stiffness `c_l l(t)` and the force Fn, which change
+    /// within a mesh period; what it leaves to S (friction ~ mu Fn, `q dl/dy`) changes the
+    /// Newton matrix little (the stepper renews S when the contraction says so). It costs
+    /// about 2.5 f against 14-19 f for J. False where [`GearedRotor::jacobian`] declines
+    /// (stick mode, coast flanks touching, test switches), and for
     /// rigid teeth: their J has no such stiffness (the constraint row is exact in every J),
     /// and they keep radau5.f's full renewals and so their results.
     pub fn jacobian_fast(

@@ -7,8 +7,10 @@
 //! quadrature): its column is zero, and its row and the mesh damping's part of `E_damp`
 //! come from the derivatives of the two powers. Against the stepper's forward differences
 //! of f (22 evaluations) it takes the derivative of the active branch at the kinks of
-//! (3.15) and costs somewhat less, about 19 f (the friction columns are differences of the
-//! friction evaluation, as in the rigid model; docs/model.md §3.5 "Cost").
+//! (3.15) and costs less, 14-19 f (the friction columns are differences of the friction
+//! evaluation, as in the rigid model; docs/model.md §3.5 "Cost"). Its fast part (the split
+//! of radau5.md §8, `GearedRotor::jacobian_fast`) leaves out those columns and dl/dy,
+//! about 2.5 f.
 //!
 //! The force law and the chain rule take one flank contact given by its approach, rate and
 //! contact length with their gradients ([`FlankState`]), so that a second contact (a coast
