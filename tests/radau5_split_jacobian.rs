@@ -239,7 +239,7 @@ fn failing_fast_part_is_a_typed_error() {
     let e = s.integrate_to(&mut p, T_END).unwrap_err();
     match e {
         Error::Rhs { t, message, .. } => {
-            assert!(t >= 0.05 && t < 0.06, "{t}");
+            assert!((0.05..0.06).contains(&t), "{t}");
             assert!(message.contains("fast part undefined"), "{message}");
         }
         other => panic!("{other:?}"),

@@ -442,7 +442,9 @@ impl<const N: usize> Radau5<N> {
             h,
             message: e.message,
         };
+        // A new full J: no split (and nothing aged) unless this one is analytic and split.
         s.split = false;
+        s.fast_stale = false;
         if s.params.analytic_jac && problem.jacobian(t, &s.y, &mut s.jac).map_err(to_err)? {
             // Split Jacobian (radau5.md §8): keep the slow part S = J - F for the renewals
             // of F alone.
@@ -450,7 +452,6 @@ impl<const N: usize> Radau5<N> {
             if problem.jacobian_fast(t, &s.y, &mut fast).map_err(to_err)? {
                 s.jac_slow = s.jac - fast;
                 s.split = true;
-                s.fast_stale = false;
             }
             return Ok(());
         }
