@@ -166,6 +166,8 @@ impl Simulation {
                 init::initial_state(&problem.model, t_start, initialization, settings.rtol)
                     .map_err(SimError::Init)?;
         }
+        // A start on the pitch line of a spur contact line (`stick::start_mode`).
+        y0 = stick::start_mode(&mut problem.model, t_start, y0);
         init.y0 = y0;
         let options =
             settings.options_for(problem.model.scales(), problem.model.params().tooth_contact);

@@ -24,7 +24,7 @@
 use super::validity::locate;
 use super::{SimError, Simulation, StepReport};
 use crate::radau5::{self, Retake};
-use crate::rotor::{idx, NY};
+use crate::rotor::{idx, GearedRotor, NY};
 use nalgebra::SVector;
 
 /// Most stick transitions one communication interval lists (further ones are counted).
@@ -42,6 +42,43 @@ pub struct StickChange {
     pub t: f64,
     /// true: a line started to stick; false: it slips again.
     pub stick: bool,
+}
+
+/// The friction mode of a start state that puts a spur contact line on the pitch line (the
+/// default phase psi0 = 0 does in rigid rotation: x0 ~ 1e-15 m/s). A line that holds there
+/// is left to [`Simulation::stick_transitions`] (the first step's sign change is located at
+/// the start, the step retaken to it, and the entry reported). A line that slides through
+/// starts released in the sense it slides from t0 on (opposite to the force that would
+/// hold it, as after a stick phase), so that f at t0, the stages of the first step and the
+/// friction columns of J (one-sided differences of the friction) all see its force from
+/// after t0; the release ends where the line leaves the band. Left as it was, f at t0 was
+/// Coulomb's from before the reversal and J's differences straddled the jump of the
+/// line's force (entries ~1e10-1e11 instead of ~1e7): the first step's Newton iteration
+/// stopped on an increment that the false stiffness kept small, its error estimate was
+/// filtered by the same matrix, and the step was accepted with its collocation equations
+/// unsolved (elastic spur pair from rest, rtol 1e-6: the centre velocities off by 3e-2 of
+/// their scale after 1 us, the first separation 0.50 us early). Returns the start state,
+/// consistent with the mode (rigid teeth: lambda).
+pub(super) fn start_mode(model: &mut GearedRotor, t: f64, y: SVector<f64, NY>) -> SVector<f64, NY> {
+    if !model.stick_possible() || model.stick() || model.released() != 0.0 {
+        return y;
+    }
+    let Some(x0) = model.pitch_line_sliding(t, &y) else {
+        return y;
+    };
+    let rolling = (y[idx::OMEGA1] + y[idx::V + 6]).abs() * model.geometry().p_bt;
+    if !(x0.abs() <= AT_PITCH_LINE * rolling) {
+        return y;
+    }
+    match model.stick_state(t, &y) {
+        Some((margin, f_w)) if margin < 0.0 && f_w != 0.0 => {
+            let coast = model.watches_coast(t, &y);
+            model.set_stick_flank(coast);
+            model.set_stick(false, -f_w.signum());
+            model.contact().consistent_state(t, &y).unwrap_or(y)
+        }
+        _ => y,
+    }
 }
 
 impl Simulation {
