@@ -20,7 +20,8 @@
 mod common;
 
 use common::stick::{
-    assert_same_instants, phases, regularised_law_deviations, round_trip, rpm, spur,
+    assert_same_instants, phases, regularised_law_deviations, round_trip, rpm, sample_stuck_lines,
+    spur,
 };
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{Params, RELEASE_BAND};
@@ -142,49 +143,26 @@ fn review_cases_run_to_their_end_with_closed_energy_balance() {
 
 #[test]
 fn a_stuck_line_does_not_slide_and_its_force_stays_within_the_bound() {
-    // 100 rpm with 50 N m: long stick phases (~0.2 ms). Sample them with short doSteps.
-    let p = spur(0.05, FrictionLaw::Coulomb);
-    let settings = SolverSettings {
-        rtol: 1e-8,
-        h_max: 1e-4,
-    };
-    let w = rpm(100.0);
-    let mut sim = Simulation::new(p, settings, 0.0, w, 50.0).unwrap();
-    let h = 5e-6;
-    let (mut samples, mut exits) = (0, 0);
-    let mut worst_sliding = 0.0f64;
-    for k in 0..2000 {
-        let r = sim.do_step(k as f64 * h, h).unwrap();
-        let (t, y) = (sim.time(), *sim.y());
-        let m = sim.model();
-        let rolling = (y[15] + y[13]).abs() * m.geometry().p_bt;
-        if m.stick() {
-            // No sliding beyond what the stick phase started with (a landing by 1e-7 of a
-            // pitch before the reversal): far below the rolling speed, and the force
-            // within its bound.
-            let x0 = m.pitch_line_sliding(t, &y).unwrap();
-            worst_sliding = worst_sliding.max(x0.abs() / rolling);
-            let (margin, f_w) = m.stick_state(t, &y).unwrap();
-            assert!(
-                margin >= -1e-6 * f_w.abs(),
-                "t = {t}: margin {margin} N, F_w {f_w} N"
-            );
-            samples += 1;
-        }
-        for c in r.stick_changes.iter().flatten().filter(|c| !c.stick) {
-            // At the exit the force needed is at the bound (margin ~ 0 relative to it).
-            exits += 1;
-            let _ = c;
-            let (margin, f_w) = m.stick_state(t, &y).unwrap_or((f64::NAN, f64::NAN));
-            // The doStep ends up to 5 us after the exit: the margin there has grown past 0
-            // but by less than the force changes in 5 us.
+    // No sliding beyond what the stick phase started with (a landing by 1e-7 of a pitch
+    // before the reversal): far below the rolling speed, and the force within its bound.
+    let (samples, exits, worst_sliding) = sample_stuck_lines(
+        spur(0.05, FrictionLaw::Coulomb),
+        |_| {},
+        |sim| {
+            // At the exit the force needed is at the bound. The doStep ends up to 5 us
+            // after the exit: the margin there has grown past 0 but by less than the force
+            // changes in 5 us.
+            let (t, y) = (sim.time(), *sim.y());
+            let (margin, f_w) = sim
+                .model()
+                .stick_state(t, &y)
+                .unwrap_or((f64::NAN, f64::NAN));
             assert!(
                 margin < 0.0 && margin.abs() < 0.2 * f_w.abs(),
                 "exit: {margin} vs {f_w}"
             );
-        }
-    }
-    println!("{samples} samples in stick, {exits} exits, largest sliding {worst_sliding:.2e} of the rolling speed across a pitch");
+        },
+    );
     assert!(
         samples > 20 && exits >= 2,
         "{samples} samples, {exits} exits"

@@ -17,7 +17,9 @@
 
 mod common;
 
-use common::stick::{assert_same_instants, phases, regularised_law_deviations, round_trip, rpm};
+use common::stick::{
+    assert_same_instants, phases, regularised_law_deviations, round_trip, rpm, sample_stuck_lines,
+};
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{idx, Params, ToothContact, NY, RELEASE_BAND};
 use nalgebra::SVector;
@@ -134,41 +136,10 @@ fn spur_cases_with_stick_run_to_their_end_with_closed_energy_balance() {
 
 #[test]
 fn a_stuck_elastic_line_does_not_slide_and_its_force_stays_within_the_bound() {
-    let p = spur(0.05, FrictionLaw::Coulomb);
-    let settings = SolverSettings {
-        rtol: 1e-8,
-        h_max: 1e-4,
-    };
-    let mut sim = Simulation::new(p, settings, 0.0, rpm(100.0), 50.0).unwrap();
-    let h = 5e-6;
-    let (mut samples, mut exits) = (0, 0);
-    let mut worst_sliding = 0.0f64;
-    for k in 0..2000 {
-        let r = sim.do_step(k as f64 * h, h).unwrap();
-        let (t, y) = (sim.time(), *sim.y());
-        let m = sim.model();
-        let rolling = (y[15] + y[13]).abs() * m.geometry().p_bt;
-        if m.stick() {
-            let x0 = m.pitch_line_sliding(t, &y).unwrap();
-            worst_sliding = worst_sliding.max(x0.abs() / rolling);
-            let (margin, f_w) = m.stick_state(t, &y).unwrap();
-            assert!(
-                margin >= -1e-6 * f_w.abs(),
-                "t = {t}: margin {margin} N, F_w {f_w} N"
-            );
-            outputs_match_f(&sim, "drive stick");
-            samples += 1;
-        }
-        exits += r
-            .stick_changes
-            .iter()
-            .flatten()
-            .filter(|c| !c.stick)
-            .count();
-    }
-    println!(
-        "{samples} samples in stick, {exits} exits, largest sliding {worst_sliding:.2e} of \
-         the rolling speed across a pitch"
+    let (samples, exits, worst_sliding) = sample_stuck_lines(
+        spur(0.05, FrictionLaw::Coulomb),
+        |sim| outputs_match_f(sim, "drive stick"),
+        |_| {},
     );
     assert!(
         samples > 20 && exits >= 2,

@@ -3,7 +3,7 @@
 
 use geared_rotor::gear::{FrictionLaw, GearData};
 use geared_rotor::rotor::Params;
-use geared_rotor::sim::Simulation;
+use geared_rotor::sim::{Simulation, SolverSettings};
 use std::f64::consts::PI;
 
 /// The default pair made spur (beta = 0), with the friction coefficient and law given.
@@ -96,4 +96,52 @@ pub fn assert_same_instants(all: &[Vec<(f64, bool)>]) {
             assert!((a.0 - b.0).abs() <= 1e-9, "{a:?} vs {b:?}");
         }
     }
+}
+
+/// The stuck-line check of both contacts: `p` at 100 rpm with 50 N m (long stick phases,
+/// ~0.2 ms), rtol 1e-8, sampled in 2000 doSteps of 5 us. While a line sticks: its sliding
+/// (as a fraction of the rolling speed across a base pitch) is recorded and its force must
+/// lie within the bound (4.15) to 1e-6 of |F_w|; `each_stuck` runs there too, and
+/// `each_exit` after every doStep that reported an exit. Returns the samples in stick, the
+/// exits and the largest sliding.
+#[allow(dead_code)]
+pub fn sample_stuck_lines(
+    p: Params,
+    mut each_stuck: impl FnMut(&Simulation),
+    mut each_exit: impl FnMut(&Simulation),
+) -> (usize, usize, f64) {
+    let settings = SolverSettings {
+        rtol: 1e-8,
+        h_max: 1e-4,
+    };
+    let mut sim = Simulation::new(p, settings, 0.0, rpm(100.0), 50.0).unwrap();
+    let h = 5e-6;
+    let (mut samples, mut exits) = (0, 0);
+    let mut worst_sliding = 0.0f64;
+    for k in 0..2000 {
+        let r = sim.do_step(k as f64 * h, h).unwrap();
+        let (t, y) = (sim.time(), *sim.y());
+        let m = sim.model();
+        let rolling = (y[15] + y[13]).abs() * m.geometry().p_bt;
+        if m.stick() {
+            let x0 = m.pitch_line_sliding(t, &y).unwrap();
+            worst_sliding = worst_sliding.max(x0.abs() / rolling);
+            let (margin, f_w) = m.stick_state(t, &y).unwrap();
+            assert!(
+                margin >= -1e-6 * f_w.abs(),
+                "t = {t}: margin {margin} N, F_w {f_w} N"
+            );
+            each_stuck(&sim);
+            samples += 1;
+        }
+        for _ in r.stick_changes.iter().flatten().filter(|c| !c.stick) {
+            exits += 1;
+            each_exit(&sim);
+        }
+    }
+    println!(
+        "{samples} samples in stick, {exits} exits, largest sliding {worst_sliding:.2e} of \
+         the rolling speed across a pitch"
+    );
+    (samples, exits, worst_sliding)
 }
