@@ -275,8 +275,8 @@ to 1485 N (drive) and 1568 N (coast), in free flight 53 % of the time.</figcapti
 <code>T_load</code> = 100 N m, each point started from its neighbour's periodic orbit (the <code>periodic</code> program's
 sweep), up and down. The mesh resonance lies around 6833 rpm, where the mesh frequency z1 n / 60 meets the closed-form
 mesh natural frequency sqrt(c_gamma b / m_eq) / 2 pi = 3075 Hz (model.md (3.19)). With the backlash of 0.1 mm it
-softens with a jump and hysteresis (up: 2.3 at 6000 rpm, the large orbit from 6500; down: 8.4 at 6500 rpm); without
-backlash the two-sided mesh is parametrically unstable there and grows without bound (317 at 6000 rpm, drawn at the
+softens with a jump and hysteresis (up: 2.3 at 6000 rpm, the large orbit from 6500; down: 7.8 at 6500 rpm); without
+backlash the two-sided mesh is parametrically unstable there and grows without bound (290 at 6000 rpm, drawn at the
 cut of the axis).</figcaption></figure>
 <h2>Default pair</h2>
 <figure><img src="figure.svg" alt="default pair in the transverse plane">
