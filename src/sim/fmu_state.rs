@@ -286,6 +286,10 @@ impl SimState {
             for x in y0.iter_mut() {
                 *x = r.finite("initial state")?;
             }
+        } else {
+            // As at the start (`stick::start_mode`), so that the record equals the live
+            // one; the mode it sets is replaced by the state's own below.
+            y0 = super::stick::start_mode(&mut problem.model, t_start, y0)?;
         }
         init.y0 = y0;
         let bits = r.u32("validity flags")?;
@@ -342,5 +346,38 @@ impl SimState {
             h_fixed,
             impacts,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bytes::{Reader, Writer};
+    use crate::sim::SolverSettings;
+
+    /// A rigid spur pair from rest starts with a contact line on the pitch line, released in
+    /// its sliding sense (`stick::start_mode`, which changes the start's lambda): the replay
+    /// of a serialized state rebuilds the same start record, so that the state is restored
+    /// in place (a different record made `restore` rebuild the simulation and drop what is
+    /// not serialized, e.g. `max_internal_steps`).
+    #[test]
+    fn a_spur_start_on_the_pitch_line_replays_its_start_record() {
+        let mut p = Params::default();
+        p.gear.beta = 0.0;
+        let settings = SolverSettings {
+            rtol: 1e-6,
+            h_max: 1e-4,
+        };
+        let sim =
+            Simulation::with_initialization(p, settings, 0.0, 314.159, 0.0, Initialization::Rest)
+                .unwrap();
+        assert!(
+            sim.problem.model.released() != 0.0,
+            "no start on the pitch line"
+        );
+        let mut w = Writer::default();
+        sim.state().write(&mut w);
+        let read = SimState::read(&mut Reader::new(&w.buf)).unwrap();
+        assert_eq!(read.init, sim.init);
     }
 }

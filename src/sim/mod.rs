@@ -167,7 +167,7 @@ impl Simulation {
                     .map_err(SimError::Init)?;
         }
         // A start on the pitch line of a spur contact line (`stick::start_mode`).
-        y0 = stick::start_mode(&mut problem.model, t_start, y0);
+        y0 = stick::start_mode(&mut problem.model, t_start, y0)?;
         init.y0 = y0;
         let options =
             settings.options_for(problem.model.scales(), problem.model.params().tooth_contact);
