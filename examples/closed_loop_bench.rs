@@ -16,7 +16,8 @@
 //! call (SetReal [+ SetRealInputDerivatives] + DoStep + GetReal of all Real outputs): median,
 //! p99, p99.9 and max (each the median over the repeats; max also the best of them); and
 //! the RADAU5 work per doStep from the instance's counters (internal step attempts,
-//! rejections, Newton iterations = linear solves, Jacobians, LU pairs, f evaluations; mean
+//! rejections, Newton iterations = linear solves, Jacobians, renewals of only their fast
+//! part (`jfast`, the split Jacobian of docs/radau5.md §8), LU pairs, f evaluations; mean
 //! and the largest of any doStep), and with a third argument `cpu`: `cpumx`, the largest
 //! process CPU time of one call (best of the runs; unlike the wall time it excludes
 //! preemption by other processes; the clock reads, ~1 us each, then inflate the CPU column).
