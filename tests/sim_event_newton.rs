@@ -100,6 +100,18 @@ fn clipped_steps_reuse_only_their_own_lu_pair() {
     assert!(e_t1 < 2e-7 && e_fn < 2e-7, "T1 {e_t1:e}, Fn {e_fn:e}");
 }
 
+/// The default pair made spur with elastic teeth, started from rest at omega1 (rad/s) and
+/// T_load (N m), h_max 1e-4 s.
+fn elastic_spur_from_rest(rtol: f64, omega1: f64, t_load: f64) -> Simulation {
+    let mut p = Params {
+        tooth_contact: ToothContact::Elastic,
+        ..Params::default()
+    };
+    p.gear.beta = 0.0;
+    let settings = SolverSettings { rtol, h_max: 1e-4 };
+    Simulation::with_initialization(p, settings, 0.0, omega1, t_load, Initialization::Rest).unwrap()
+}
+
 /// The first drive separation of an elastic spur pair from rest (stick.rs `start_mode`): the
 /// default phase puts a contact line on the pitch line at t = 0 (x0 ~ 1e-15 m/s), where its
 /// Coulomb force jumps. Started with the force from before t0, the friction columns of J
@@ -110,15 +122,7 @@ fn clipped_steps_reuse_only_their_own_lu_pair() {
 #[test]
 fn spur_start_on_the_pitch_line_keeps_the_tolerance() {
     let first_separation = |rtol: f64| {
-        let mut p = Params {
-            tooth_contact: ToothContact::Elastic,
-            ..Params::default()
-        };
-        p.gear.beta = 0.0;
-        let settings = SolverSettings { rtol, h_max: 1e-4 };
-        let mut s =
-            Simulation::with_initialization(p, settings, 0.0, 314.159, 0.0, Initialization::Rest)
-                .unwrap();
+        let mut s = elastic_spur_from_rest(rtol, 314.159, 0.0);
         let r = s.do_step(0.0, 2e-4).unwrap();
         r.contact_events
             .iter()
@@ -128,18 +132,7 @@ fn spur_start_on_the_pitch_line_keeps_the_tolerance() {
             .unwrap()
     };
     // The line starts released in the sense it slides from t0 on.
-    let mut p = Params {
-        tooth_contact: ToothContact::Elastic,
-        ..Params::default()
-    };
-    p.gear.beta = 0.0;
-    let settings = SolverSettings {
-        rtol: 1e-8,
-        h_max: 1e-4,
-    };
-    let mut s =
-        Simulation::with_initialization(p, settings, 0.0, 314.159, 0.0, Initialization::Rest)
-            .unwrap();
+    let mut s = elastic_spur_from_rest(1e-8, 314.159, 0.0);
     let sense = s.model().released();
     s.do_step(0.0, 1e-6).unwrap();
     let x0 = s.model().pitch_line_sliding(s.time(), s.y()).unwrap();
@@ -164,16 +157,7 @@ fn spur_start_on_the_pitch_line_keeps_the_tolerance() {
 #[test]
 fn inputs_set_at_the_start_decide_the_start_mode() {
     let run = |rtol: f64| {
-        let mut p = Params {
-            tooth_contact: ToothContact::Elastic,
-            ..Params::default()
-        };
-        p.gear.beta = 0.0;
-        let settings = SolverSettings { rtol, h_max: 1e-4 };
-        let w = 100.0 * PI / 30.0;
-        let mut s =
-            Simulation::with_initialization(p, settings, 0.0, w, 50.0, Initialization::Rest)
-                .unwrap();
+        let mut s = elastic_spur_from_rest(rtol, 100.0 * PI / 30.0, 50.0);
         s.set_input(Input::TLoad, -50.0).unwrap();
         let mut t1 = Vec::new();
         for k in 0..200 {

@@ -457,19 +457,28 @@ impl GearedRotor {
         if self.stick || self.difference_jacobian {
             return false;
         }
-        match &self.elastic {
-            None => self
+        if self.elastic.is_none() {
+            return self
                 .eval_jacobian(t, y, jac, &mut [0.0; NY], JacobianPart::Full)
-                .is_ok(),
-            // The elastic contact (§3.5): the chain rule through Fn(y), for the drive flanks;
-            // while the coast flanks touch (§3.6) the stepper's differences of f.
-            Some(e) => {
-                !self.coast_touches(t, y)
-                    && self
-                        .eval_elastic_jacobian(e, t, y, jac, JacobianPart::Full)
-                        .is_ok()
-            }
+                .is_ok();
         }
+        self.elastic_jacobian_part(t, y, jac, JacobianPart::Full)
+    }
+
+    /// The elastic contact's J or its fast part (§3.5): the chain rule through Fn(y), for
+    /// the drive flanks; false (the stepper's differences of f) while the coast flanks touch
+    /// (§3.6), where the state cannot be evaluated, and for rigid teeth.
+    fn elastic_jacobian_part(
+        &self,
+        t: f64,
+        y: &SVector<f64, NY>,
+        jac: &mut SMatrix<f64, NY, NY>,
+        part: JacobianPart,
+    ) -> bool {
+        let Some(e) = &self.elastic else {
+            return false;
+        };
+        !self.coast_touches(t, y) && self.eval_elastic_jacobian(e, t, y, jac, part).is_ok()
     }
 
     /// The fast part F of the split Jacobian `J = S + F` (radau5 `Problem::jacobian_fast`,
@@ -489,18 +498,8 @@ impl GearedRotor {
         y: &SVector<f64, NY>,
         jac: &mut SMatrix<f64, NY, NY>,
     ) -> bool {
-        if self.stick || self.difference_jacobian || self.whole_jacobian {
-            return false;
-        }
-        match &self.elastic {
-            None => false,
-            Some(e) => {
-                !self.coast_touches(t, y)
-                    && self
-                        .eval_elastic_jacobian(e, t, y, jac, JacobianPart::Fast)
-                        .is_ok()
-            }
-        }
+        !(self.stick || self.difference_jacobian || self.whole_jacobian)
+            && self.elastic_jacobian_part(t, y, jac, JacobianPart::Fast)
     }
 
     /// Test switch: `true` makes [`GearedRotor::jacobian`] decline, so that the stepper

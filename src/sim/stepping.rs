@@ -92,35 +92,13 @@ impl Simulation {
         // values that continue the same ramp) costs nothing.
         let change = self.change_pending();
         if change {
-            let mut y = match self.restart_state(t) {
+            let y = match self.restart_state(t) {
                 Ok(y) => y,
                 Err(e) => {
                     self.last_successful_time = t;
                     return Err(e);
                 }
             };
-            // Inputs set at the start before the first step: the start's friction mode
-            // (`stick::start_mode`) is decided again with them, and the stepper restarts
-            // if it changed (built with T_load = 50 and set to -50 N m before the first
-            // doStep, an elastic spur pair at 100 rpm kept the release sense of +50: T1 off
-            // by 0.76 N m over 20 ms at rtol 1e-6).
-            if t == self.init.t_start && self.solver.stats().naccpt == 0 {
-                let m = &mut self.problem.model;
-                let before = (m.released(), m.stick_flank_is_coast());
-                if !m.stick() {
-                    m.clear_release();
-                    y = match super::stick::start_mode(m, t, y) {
-                        Ok(y) => y,
-                        Err(e) => {
-                            self.last_successful_time = t;
-                            return Err(e);
-                        }
-                    };
-                    if (m.released(), m.stick_flank_is_coast()) != before {
-                        self.restart_pending = true;
-                    }
-                }
-            }
             // Inputs enter f additively (the filter's reference, the load torque; J sees
             // T_load only in the E_load quadrature row, T_load omega2, which the simplified
             // Newton iteration absorbs), so J and the LU pair stay usable: only f is

@@ -98,6 +98,26 @@ pub fn assert_same_instants(all: &[Vec<(f64, bool)>]) {
     }
 }
 
+/// While a line sticks at the simulation's point: its sliding as a fraction of the rolling
+/// speed across a base pitch, after checking that its force lies within the bound (4.15)
+/// to 1e-6 of |F_w|; None while no line sticks.
+#[allow(dead_code)]
+pub fn stuck_line_sliding(sim: &Simulation) -> Option<f64> {
+    let (t, y) = (sim.time(), *sim.y());
+    let m = sim.model();
+    if !m.stick() {
+        return None;
+    }
+    let rolling = (y[15] + y[13]).abs() * m.geometry().p_bt;
+    let x0 = m.pitch_line_sliding(t, &y).unwrap();
+    let (margin, f_w) = m.stick_state(t, &y).unwrap();
+    assert!(
+        margin >= -1e-6 * f_w.abs(),
+        "t = {t}: margin {margin} N, F_w {f_w} N"
+    );
+    Some(x0.abs() / rolling)
+}
+
 /// The stuck-line check of both contacts: `p` at 100 rpm with 50 N m (long stick phases,
 /// ~0.2 ms), rtol 1e-8, sampled in 2000 doSteps of 5 us. While a line sticks: its sliding
 /// (as a fraction of the rolling speed across a base pitch) is recorded and its force must
@@ -120,17 +140,8 @@ pub fn sample_stuck_lines(
     let mut worst_sliding = 0.0f64;
     for k in 0..2000 {
         let r = sim.do_step(k as f64 * h, h).unwrap();
-        let (t, y) = (sim.time(), *sim.y());
-        let m = sim.model();
-        let rolling = (y[15] + y[13]).abs() * m.geometry().p_bt;
-        if m.stick() {
-            let x0 = m.pitch_line_sliding(t, &y).unwrap();
-            worst_sliding = worst_sliding.max(x0.abs() / rolling);
-            let (margin, f_w) = m.stick_state(t, &y).unwrap();
-            assert!(
-                margin >= -1e-6 * f_w.abs(),
-                "t = {t}: margin {margin} N, F_w {f_w} N"
-            );
+        if let Some(sliding) = stuck_line_sliding(&sim) {
+            worst_sliding = worst_sliding.max(sliding);
             each_stuck(&sim);
             samples += 1;
         }
