@@ -294,9 +294,10 @@ impl Simulation {
         self.sync()?;
         let y = *self.solver.y();
         let m = &mut self.problem.model;
-        let at_start = t == self.init.t_start && self.solver.stats().naccpt == 0 && !m.stick();
-        let before = (m.released(), m.stick_flank_is_coast());
+        let at_start = t == self.init.t_start && self.solver.stats().naccpt == 0;
+        let before = (m.released(), m.stick(), m.stick_flank_is_coast());
         if at_start {
+            m.set_stick(false, 0.0);
             m.clear_release();
         }
         let y = m
@@ -307,7 +308,7 @@ impl Simulation {
             return Ok(y);
         }
         let y = stick::start_mode(m, t, y)?;
-        if (m.released(), m.stick_flank_is_coast()) != before {
+        if (m.released(), m.stick(), m.stick_flank_is_coast()) != before {
             self.restart_pending = true;
         }
         Ok(y)

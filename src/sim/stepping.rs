@@ -159,6 +159,10 @@ impl Simulation {
             let y = *self.solver.y();
             self.check_validity(ts, &y, &mut report)?;
         }
+        if self.solver.stats().naccpt == 0 && t == self.init.t_start && self.problem.model.stick() {
+            // A line that holds on the pitch line from the start (`stick::start_mode`).
+            report.note_stick(StickChange { t, stick: true });
+        }
         self.solver.reset_step_count();
         let mut steps = 0u64;
         while self.solver.t() < t_end {

@@ -46,26 +46,26 @@ pub struct StickChange {
 
 /// The friction mode of a start state that puts a spur contact line on the pitch line (the
 /// default phase psi0 = 0 does in rigid rotation: x0 ~ 1e-15 m/s). A line that holds there
-/// is left to [`Simulation::stick_transitions`] (the first step's sign change is located at
-/// the start, the step retaken to it, and the entry reported). A line that slides through
-/// starts released in the sense it slides from t0 on (opposite to the force that would
-/// hold it, as after a stick phase), so that f at t0, the stages of the first step and the
-/// friction columns of J (one-sided differences of the friction) all see its force from
-/// after t0; the release ends where the line leaves the band. Left as it was, f at t0 was
-/// Coulomb's from before the reversal and J's differences straddled the jump of the
-/// line's force (entries ~1e10-1e11 instead of ~1e7): the first step's Newton iteration
+/// (its stick margin >= 0 while the pair rolls) sticks from t0 on, on the flank that
+/// carries the load; the first doStep reports the entry at t0. Left to
+/// [`Simulation::stick_transitions`], it was found only if the first step showed a sign
+/// change of x0, which the rounding left in x0 (~1e-17 m/s) decided (an elastic coast line
+/// at 100 rpm slid through: entry at 0.35 ms, T1 off by 1.84 N m at rtol 1e-6). A line that
+/// slides through starts released in the sense it slides from t0 on (opposite to the force
+/// that would hold it, as after a stick phase), so that f at t0, the stages of the first
+/// step and the friction columns of J (one-sided differences of the friction) all see its
+/// force from after t0; the release ends where the line leaves the band. Left as it was, f
+/// at t0 was Coulomb's from before the reversal and J's differences straddled the jump of
+/// the line's force (entries ~1e10-1e11 instead of ~1e7): the first step's Newton iteration
 /// stopped on an increment that the false stiffness kept small, its error estimate was
 /// filtered by the same matrix, and the step was accepted with its collocation equations
 /// unsolved (elastic spur pair from rest, rtol 1e-6: the centre velocities off by 3e-2 of
 /// their scale after 1 us, the first separation 0.50 us early). Returns the start state,
-/// consistent with the mode (rigid teeth: lambda).
-///
-/// Not handled: whether a line that holds is found by the entry logic depends on the sign
-/// of the rounding left in x0 (a start with x0 ~ +-1e-17 m/s on the wrong side shows no sign
-/// change in the first step, and the entry comes later, or never from standstill).
+/// consistent with the mode (rigid teeth: lambda). At standstill (no rolling, no pitch-line
+/// band) no line is made to stick here.
 ///
 /// # Errors
-/// The consistent state of the released mode cannot be computed.
+/// The consistent state of the chosen mode cannot be computed.
 pub(super) fn start_mode(
     model: &mut GearedRotor,
     t: f64,
@@ -81,18 +81,19 @@ pub(super) fn start_mode(
     if !(x0.abs() <= AT_PITCH_LINE * rolling) {
         return Ok(y);
     }
-    match model.stick_state(t, &y) {
-        Some((margin, f_w)) if margin < 0.0 && f_w != 0.0 => {
-            let coast = model.watches_coast(t, &y);
-            model.set_stick_flank(coast);
-            model.set_stick(false, -f_w.signum());
-            model
-                .contact()
-                .consistent_state(t, &y)
-                .map_err(SimError::Model)
-        }
-        _ => Ok(y),
-    }
+    let (stick, release) = match model.stick_state(t, &y) {
+        Some((margin, f_w)) if margin < 0.0 && f_w != 0.0 => (false, -f_w.signum()),
+        // Only while the pair rolls: the pitch-line band is a fraction of the rolling speed.
+        Some((margin, _)) if margin >= 0.0 && rolling > 0.0 => (true, 0.0),
+        _ => return Ok(y),
+    };
+    let coast = model.watches_coast(t, &y);
+    model.set_stick_flank(coast);
+    model.set_stick(stick, release);
+    model
+        .contact()
+        .consistent_state(t, &y)
+        .map_err(SimError::Model)
 }
 
 impl Simulation {
