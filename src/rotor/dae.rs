@@ -18,6 +18,7 @@ mod memo;
 mod stick;
 
 pub use elastic::{ElasticContact, ElasticMesh};
+pub use friction::CREEP_SPEED;
 pub use stick::{RELEASE_BAND, STICK_RELAXATION};
 
 use friction::Asker;

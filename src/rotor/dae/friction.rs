@@ -23,7 +23,37 @@ pub(crate) enum Asker {
     Outputs,
 }
 
+/// Laws 1 and 3 creep below this rolling speed across a transverse base pitch,
+/// `|omega1 + omega2| p_bt` (m/s; `model.md` §4.2, (4.16)): 9.2 rpm of the default pair's
+/// pinion, law 2's default v_reg. With 1e-3 a spur pair started at rest under 50 N m still
+/// rocked in and out of the pitch-line stick mode at rolling speeds of 1-3e-3 m/s (up to
+/// 12 600 steps per 0.1 ms doStep, one Newton failure in 32 starts); with 1e-2 at most
+/// ~400 steps per 10 ms.
+pub const CREEP_SPEED: f64 = 1e-2;
+
 impl GearedRotor {
+    /// Laws 1 and 3 near standstill (`model.md` §4.2): the regularising speed (m/s) that
+    /// replaces their sharp sliding direction `v/|v|` by `v/sqrt(|v|^2 + v_s^2)` while the
+    /// pair rolls slower than [`CREEP_SPEED`] across a base pitch, `v_s = CREEP_SPEED (1 -
+    /// q^2)^2` with `q` the rolling speed over CREEP_SPEED (law 2's regularisation at
+    /// standstill, fading to the sharp law with a continuous slope at CREEP_SPEED). Where
+    /// nothing rolls, the sliding of every contact line is the vibration's and its sign
+    /// flips from stage to stage under load: the sharp law stalled the stepper (step limit or
+    /// Newton failure), a stuck state being outside the model (a line sticks only at the
+    /// pitch line of a rolling spur pair, §4.1). None while the pair rolls faster (and for
+    /// the other laws, which are smooth at zero sliding).
+    pub(crate) fn standstill_creep(&self, y: &SVector<f64, NY>) -> Option<f64> {
+        if !self.params.friction_law.sharp_reversal() {
+            return None;
+        }
+        let rolling = (y[idx::OMEGA1] + y[idx::V + 6]).abs() * self.geom.p_bt;
+        if !(rolling < CREEP_SPEED) {
+            return None;
+        }
+        let a = 1.0 - (rolling / CREEP_SPEED).powi(2);
+        Some(CREEP_SPEED * a * a)
+    }
+
     /// The friction sums of the state y at the normal force `lam` and the scalar
     /// coefficient that multiplies them in [`FrictionSums::resultants`]:
     /// law 1 and 2: mu (the sums carry the regularisation for law 2); law 3: mu_mz of
@@ -128,7 +158,16 @@ impl GearedRotor {
                 },
                 None,
             ),
-            FrictionLaw::Coulomb | FrictionLaw::IsoMean => (LineLaw::Coulomb, None),
+            FrictionLaw::Coulomb | FrictionLaw::IsoMean => match self.standstill_creep(y) {
+                Some(v_reg) => (
+                    LineLaw::Regularised {
+                        v_reg,
+                        with_mean: false,
+                    },
+                    None,
+                ),
+                None => (LineLaw::Coulomb, None),
+            },
         };
         // m is the mesh of y, so the sums of laws 1-3 are a function of the memo's key;
         // laws 4 and 5 depend on lambda too (the line load): its bits are the variant.
