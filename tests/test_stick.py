@@ -81,3 +81,41 @@ def test_elastic_spur_pair_sticks_on_the_coast_flanks_under_a_reversed_load(pkg)
         assert abs(supplied - used) <= 1e-8 * scale, (supplied - used) / scale
     finally:
         inst.terminate_and_free()
+
+
+def test_the_drive_stops_under_load_and_starts_again(pkg):
+    """The default pair (law 1) driven at 300 rpm against 50 N m: omega1 ramped to 0 over
+    20 ms (exact slopes by fmi2SetRealInputDerivatives), 100 ms at rest, ramped up again.
+    Near standstill laws 1 and 3 creep (model.md §4.2): every doStep returns fmi2OK, the
+    pair comes to rest with T1 = T_load z1/z2 (nothing for the friction to resist at rest),
+    and the energy balance closes. Before, the run stopped with fmi2Discard as the pair
+    came to rest (the sharp sliding direction stalled the stepper)."""
+    inst = pkg.instance("standstill", logging_on=True)
+    try:
+        w0, t_load = 300 * math.pi / 30, 50.0
+        inst.initialize({"omega1": w0, "T_load": t_load, "initialization": 2}, tolerance=1e-9)
+        z1, z2 = inst.get1("z1"), inst.get1("z2")
+        e0 = inst.get(ENERGIES)
+        h = 1e-3
+        ramps = [(0.01, -w0 / 0.02), (0.03, 0.0), (0.13, w0 / 0.02), (0.15, 0.0)]
+        t1_rest = None
+        for k in range(170):
+            t = k * h
+            for t_ramp, slope in ramps:
+                if abs(t - t_ramp) < 1e-9:
+                    w = inst.get1("omega1") if slope else (0.0 if t_ramp == 0.03 else w0)
+                    inst.set({"omega1": w})
+                    inst.slave.setRealInputDerivatives([inst.pkg.vr("omega1")], [1], [slope])
+            inst.do_step(h)
+            if k == 129:
+                t1_rest = inst.get1("T1")
+        e = inst.get(ENERGIES)
+        assert all(r.status == FMI2_OK for r in inst.log), [str(r) for r in inst.log if r.status]
+        assert abs(inst.get1("omega1_filtered") - w0) < 1e-6 * w0
+        ideal = t_load * z1 / z2
+        assert abs(t1_rest - ideal) <= 1e-6 * ideal, (t1_rest, ideal)
+        residual = (e["E_in"] - e["E_loss"] - e["E_damp"] - e["E_load"]
+                    - (e["E_kin"] + e["E_pot"] - e0["E_kin"] - e0["E_pot"]))
+        assert abs(residual) <= 1e-8 * e["E_in"], residual / e["E_in"]
+    finally:
+        inst.terminate_and_free()
