@@ -100,6 +100,14 @@ fn clipped_steps_reuse_only_their_own_lu_pair() {
     assert!(e_t1 < 2e-7 && e_fn < 2e-7, "T1 {e_t1:e}, Fn {e_fn:e}");
 }
 
+/// The largest |a_k - b_k|.
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f64, f64::max)
+}
+
 /// The default pair made spur with elastic teeth, started from rest at omega1 (rad/s) and
 /// T_load (N m), h_max 1e-4 s.
 fn elastic_spur_from_rest(rtol: f64, omega1: f64, t_load: f64) -> Simulation {
@@ -173,11 +181,7 @@ fn inputs_set_at_the_start_decide_the_start_mode() {
         t1
     };
     let (loose, reference) = (run(1e-6), run(1e-11));
-    let err = loose
-        .iter()
-        .zip(&reference)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f64, f64::max);
+    let err = largest_difference(&loose, &reference);
     println!("T_load +50 -> -50 N m at the start: T1 at rtol 1e-6 off by {err:.2e} N m");
     assert!(err < 0.02, "{err:e} N m");
 }
@@ -213,11 +217,7 @@ fn a_line_that_holds_on_the_pitch_line_sticks_from_the_start() {
             t1
         };
         let (loose, reference) = (run(1e-6), run(1e-11));
-        let err = loose
-            .iter()
-            .zip(&reference)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0f64, f64::max);
+        let err = largest_difference(&loose, &reference);
         println!("{name} on the pitch line at the start: T1 at rtol 1e-6 off by {err:.2e} N m");
         assert!(err < 2e-3, "{name}: {err:e} N m");
     }
