@@ -21,7 +21,8 @@ pub const MAGIC: [u8; 8] = *b"GRFMUST1";
 /// 8: 23 state components (the mesh damping's energy before lambda); RADAU5's norm count.
 /// 9: after the impact count, the flank (drive/coast) whose line sticks or was released.
 /// 10: RADAU5 snapshot v5 (the split Jacobian's slow part and flags, `njac_fast`).
-pub const VERSION: u32 = 10;
+/// 11: after the stick flank, the creep mode of friction laws 1 and 3 (flag).
+pub const VERSION: u32 = 11;
 
 /// Why a byte buffer was rejected.
 #[derive(Debug, Clone, PartialEq)]

@@ -18,7 +18,7 @@ mod memo;
 mod stick;
 
 pub use elastic::{ElasticContact, ElasticMesh};
-pub use friction::CREEP_SPEED;
+pub use friction::{CREEP_ENTRY, CREEP_SPEED};
 pub use stick::{RELEASE_BAND, STICK_RELAXATION};
 
 use friction::Asker;
@@ -74,6 +74,9 @@ pub struct GearedRotor {
     /// Whether the stick mode and the release refer to the coast flanks' line (elastic
     /// teeth; `stick_flank_is_coast`).
     stick_coast: bool,
+    /// Laws 1 and 3 creep near standstill (`model.md` §4.2; the simulation switches it at
+    /// located instants). The mirrored pair of the coast flanks holds the same flag.
+    creep: bool,
     /// Physical scale of each state component (`rotor::error_scales`).
     scales: [f64; NY],
     /// The elastic mesh (`tooth_contact = elastic`, `model.md` §3.5); None for rigid teeth.
@@ -189,6 +192,7 @@ impl GearedRotor {
             stick: false,
             released: 0.0,
             stick_coast: false,
+            creep: false,
             scales: super::DEFAULT_PAIR_SCALES,
             elastic,
             coast,

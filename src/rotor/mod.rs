@@ -15,8 +15,8 @@ mod scales;
 pub use crate::gear::FrictionLaw;
 pub use contact::{Contact, LastSlot, OVERLOAD_FRACTION};
 pub use dae::{
-    ElasticContact, ElasticMesh, GearedRotor, InitialConditions, CREEP_SPEED, RELEASE_BAND,
-    STICK_RELAXATION,
+    ElasticContact, ElasticMesh, GearedRotor, InitialConditions, CREEP_ENTRY, CREEP_SPEED,
+    RELEASE_BAND, STICK_RELAXATION,
 };
 pub use params::{Inputs, Params, RotorData, ToothContact};
 pub use problem::{dae_structure, RotorProblem};

@@ -228,6 +228,8 @@ impl SimState {
         w.u64(self.impacts);
         // The flank whose line sticks or was released (coast: elastic teeth), since 9.
         w.bool(self.model.stick_flank_is_coast());
+        // The creep mode of laws 1 and 3 near standstill (model.md §4.2), since 11.
+        w.bool(self.model.creeps());
     }
 
     /// Reads what [`SimState::write`] wrote; the model is rebuilt by replaying its
@@ -289,6 +291,7 @@ impl SimState {
         } else {
             // As at the start (`stick::start_mode`), so that the record equals the live
             // one; the mode it sets is replaced by the state's own below.
+            y0 = super::creep::start_creep(&mut problem.model, t_start, y0)?;
             y0 = super::stick::start_mode(&mut problem.model, t_start, y0)?;
         }
         init.y0 = y0;
@@ -328,6 +331,17 @@ impl SimState {
             }
             .into());
         }
+        let creep = r.bool("creep flag")?;
+        if creep && (!problem.model.creep_possible() || stick || released != 0.0) {
+            return Err(DecodeError {
+                message: format!(
+                    "creep mode with friction law {} or with a stuck or released line",
+                    problem.model.params().friction_law.code()
+                ),
+            }
+            .into());
+        }
+        problem.model.set_creep(creep);
         problem.model.set_stick_flank(coast);
         problem.model.set_stick(stick, released);
         Ok(SimState {

@@ -28,6 +28,7 @@
 
 mod closed_loop;
 pub mod contact_events;
+mod creep;
 mod error;
 mod fmu_state;
 pub mod init;
@@ -166,7 +167,9 @@ impl Simulation {
                 init::initial_state(&problem.model, t_start, initialization, settings.rtol)
                     .map_err(SimError::Init)?;
         }
-        // A start on the pitch line of a spur contact line (`stick::start_mode`).
+        // A start near standstill (`creep`), or on the pitch line of a spur contact line
+        // (`stick::start_mode`).
+        y0 = creep::start_creep(&mut problem.model, t_start, y0)?;
         y0 = stick::start_mode(&mut problem.model, t_start, y0)?;
         init.y0 = y0;
         let options =
@@ -295,10 +298,16 @@ impl Simulation {
         let y = *self.solver.y();
         let m = &mut self.problem.model;
         let at_start = t == self.init.t_start && self.solver.stats().naccpt == 0;
-        let before = (m.released(), m.stick(), m.stick_flank_is_coast());
+        let before = (
+            m.released(),
+            m.stick(),
+            m.stick_flank_is_coast(),
+            m.creeps(),
+        );
         if at_start {
             m.set_stick(false, 0.0);
             m.clear_release();
+            m.set_creep(false);
         }
         let y = m
             .contact()
@@ -307,8 +316,15 @@ impl Simulation {
         if !at_start {
             return Ok(y);
         }
+        let y = creep::start_creep(m, t, y)?;
         let y = stick::start_mode(m, t, y)?;
-        if (m.released(), m.stick(), m.stick_flank_is_coast()) != before {
+        if (
+            m.released(),
+            m.stick(),
+            m.stick_flank_is_coast(),
+            m.creeps(),
+        ) != before
+        {
             self.restart_pending = true;
         }
         Ok(y)

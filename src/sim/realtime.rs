@@ -190,6 +190,19 @@ impl Simulation {
             }
             match r {
                 Ok(tn) => {
+                    // Creep of laws 1 and 3 (`creep`): switched at the end of the step in
+                    // which the rolling speed crossed, with a new J and LU pair.
+                    if self.creep_switch_due() {
+                        let r = self.switch_creep().and_then(|()| {
+                            self.solver
+                                .fixed_prepare(&mut self.problem, h)
+                                .map_err(|e| solver_err(e, tn))
+                        });
+                        if let Err(e) = r {
+                            self.set_comm(tn);
+                            return fail(self, e);
+                        }
+                    }
                     let y: SVector<f64, NY> = *self.solver.y();
                     // Contact onsets and separations: crossed, located for the report.
                     self.note_contact_crossings(&mut report);

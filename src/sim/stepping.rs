@@ -213,7 +213,8 @@ impl Simulation {
             // at one).
             let r = match r {
                 Ok(_) if !entered => match self
-                    .stick_transitions(t_end, &mut report)
+                    .creep_transitions(t_end)
+                    .and_then(|()| self.stick_transitions(t_end, &mut report))
                     .and_then(|()| self.contact_events(t_end, &mut report))
                 {
                     Ok(()) => Ok(self.solver.t()),

@@ -23,35 +23,58 @@ pub(crate) enum Asker {
     Outputs,
 }
 
-/// Laws 1 and 3 creep below this rolling speed across a transverse base pitch,
-/// `|omega1 + omega2| p_bt` (m/s; `model.md` §4.2, (4.16)): 9.2 rpm of the default pair's
-/// pinion, law 2's default v_reg. With 1e-3 a spur pair started at rest under 50 N m still
-/// rocked in and out of the pitch-line stick mode at rolling speeds of 1-3e-3 m/s (up to
-/// 12 600 steps per 0.1 ms doStep, one Newton failure in 32 starts); with 1e-2 at most
-/// ~400 steps per 10 ms.
+/// Laws 1 and 3 creep (`model.md` §4.2) with this regularising speed (m/s, law 2's default
+/// v_reg), and stop creeping where the pair rolls faster than it across a transverse base
+/// pitch, `|omega1 + omega2| p_bt` (9.2 rpm of the default pair's pinion).
 pub const CREEP_SPEED: f64 = 1e-2;
 
+/// They start to creep where the pair rolls slower than this across a base pitch (m/s): the
+/// gap to [`CREEP_SPEED`] keeps the vibration of a pair running near either speed from
+/// switching the law back and forth (an unlocated switch at one speed stalled spur pairs
+/// running steadily within 1 % of it: 50 000 steps in one doStep).
+pub const CREEP_ENTRY: f64 = 0.5 * CREEP_SPEED;
+
 impl GearedRotor {
-    /// Laws 1 and 3 near standstill (`model.md` §4.2): the regularising speed (m/s) that
-    /// replaces their sharp sliding direction `v/|v|` by `v/sqrt(|v|^2 + v_s^2)` while the
-    /// pair rolls slower than [`CREEP_SPEED`] across a base pitch, `v_s = CREEP_SPEED (1 -
-    /// q^2)^2` with `q` the rolling speed over CREEP_SPEED (law 2's regularisation at
-    /// standstill, fading to the sharp law with a continuous slope at CREEP_SPEED). Where
-    /// nothing rolls, the sliding of every contact line is the vibration's and its sign
-    /// flips from stage to stage under load: the sharp law stalled the stepper (step limit or
-    /// Newton failure), a stuck state being outside the model (a line sticks only at the
-    /// pitch line of a rolling spur pair, §4.1). None while the pair rolls faster (and for
-    /// the other laws, which are smooth at zero sliding).
-    pub(crate) fn standstill_creep(&self, y: &SVector<f64, NY>) -> Option<f64> {
-        if !self.params.friction_law.sharp_reversal() {
-            return None;
+    /// Whether friction laws 1 and 3 are creeping (`model.md` §4.2): their sharp sliding
+    /// direction `v/|v|` is then law 2's `v/sqrt(|v|^2 + CREEP_SPEED^2)`. Where nothing
+    /// rolls, the sliding of every contact line is the vibration's and its sign flips from
+    /// stage to stage under load: the sharp law stalled the stepper (step limit or Newton
+    /// failure), a stuck mesh being outside the model (a line sticks only at the pitch line
+    /// of a rolling spur pair, §4.1). The simulation switches the mode at located instants
+    /// (rolling speed below [`CREEP_ENTRY`] on, above [`CREEP_SPEED`] off).
+    pub fn creeps(&self) -> bool {
+        self.creep
+    }
+
+    /// Whether the friction law can creep (laws 1 and 3: a sharp sliding direction).
+    pub fn creep_possible(&self) -> bool {
+        self.params.friction_law.sharp_reversal()
+    }
+
+    /// Sets the creep mode on both flanks (ignored where the law cannot creep). Entering
+    /// it ends a stick phase or a release (no line sticks while the flanks creep). The
+    /// state's lambda is then no longer consistent (rigid teeth).
+    pub fn set_creep(&mut self, on: bool) {
+        let on = on && self.creep_possible();
+        if on {
+            self.set_stick(false, 0.0);
+            self.clear_release();
         }
-        let rolling = (y[idx::OMEGA1] + y[idx::V + 6]).abs() * self.geom.p_bt;
-        if !(rolling < CREEP_SPEED) {
-            return None;
+        self.creep = on;
+        if let Some(c) = self.coast.as_mut() {
+            c.mirror_mut().creep = on;
         }
-        let a = 1.0 - (rolling / CREEP_SPEED).powi(2);
-        Some(CREEP_SPEED * a * a)
+    }
+
+    /// The rolling speed across a transverse base pitch at y, `|omega1 + omega2| p_bt`
+    /// (m/s): the scale of the sliding speeds along the contact.
+    pub fn rolling_speed(&self, y: &SVector<f64, NY>) -> f64 {
+        (y[idx::OMEGA1] + y[idx::V + 6]).abs() * self.geom.p_bt
+    }
+
+    /// The regularising speed of the creep, when laws 1 and 3 creep.
+    fn standstill_creep(&self) -> Option<f64> {
+        (self.creep && self.creep_possible()).then_some(CREEP_SPEED)
     }
 
     /// The friction sums of the state y at the normal force `lam` and the scalar
@@ -158,7 +181,7 @@ impl GearedRotor {
                 },
                 None,
             ),
-            FrictionLaw::Coulomb | FrictionLaw::IsoMean => match self.standstill_creep(y) {
+            FrictionLaw::Coulomb | FrictionLaw::IsoMean => match self.standstill_creep() {
                 Some(v_reg) => (
                     LineLaw::Regularised {
                         v_reg,
@@ -179,7 +202,9 @@ impl GearedRotor {
                     PitchLine::Stick => 1,
                     PitchLine::Released { sign, .. } => 2 + u64::from(sign > 0.0),
                 };
-                u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb) | pitch_bits << 1
+                u64::from(for_outputs && law == FrictionLaw::RegularisedCoulomb)
+                    | pitch_bits << 1
+                    | u64::from(self.creep) << 4
             }
         };
         let keep = asker != Asker::Integrator;

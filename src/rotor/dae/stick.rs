@@ -172,7 +172,7 @@ impl GearedRotor {
             PitchLine::Slide
         } else if stick {
             PitchLine::Stick
-        } else if self.released != 0.0 {
+        } else if self.released != 0.0 && !self.creep {
             PitchLine::Released {
                 sign: self.released,
                 band: self.release_band(y),
@@ -306,8 +306,8 @@ impl GearedRotor {
     /// force needed exceeds what friction can give, or when no line is near zero sliding
     /// (the stuck line left the contact). Evaluated as if the mode were stick, whatever
     /// [`GearedRotor::stick`] is: at a reversal of the sliding it says whether the line
-    /// would stick. None where no line can stick (also near standstill, where laws 1 and 3
-    /// creep: `GearedRotor::standstill_creep`) or the state cannot be evaluated.
+    /// would stick. None where no line can stick (also while laws 1 and 3 creep near
+    /// standstill, [`GearedRotor::creeps`]) or the state cannot be evaluated.
     pub fn stick_margin(&self, t: f64, y: &SVector<f64, NY>) -> Option<f64> {
         self.stick_state(t, y).map(|(g, _)| g)
     }
@@ -315,7 +315,8 @@ impl GearedRotor {
     /// [`GearedRotor::stick_margin`] and the stick force `F_w` (N, on gear 2 along e_w;
     /// the coast flanks' line: in the mirrored pair's terms).
     pub fn stick_state(&self, t: f64, y: &SVector<f64, NY>) -> Option<(f64, f64)> {
-        if !self.stick_possible() || self.standstill_creep(y).is_some() {
+        // (Creeping, no line sticks: model.md §4.2.)
+        if !self.stick_possible() || self.creep {
             return None;
         }
         if self.watches_coast(t, y) {
