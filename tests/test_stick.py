@@ -92,6 +92,7 @@ def test_the_drive_stops_under_load_and_starts_again(pkg):
     came to rest (the sharp sliding direction stalled the stepper)."""
     inst = pkg.instance("standstill", logging_on=True)
     try:
+        inst.slave.setDebugLogging(True, ["logEvents"])
         w0, t_load = 300 * math.pi / 30, 50.0
         inst.initialize({"omega1": w0, "T_load": t_load, "initialization": 2}, tolerance=1e-9)
         z1, z2 = inst.get1("z1"), inst.get1("z2")
@@ -111,6 +112,10 @@ def test_the_drive_stops_under_load_and_starts_again(pkg):
                 t1_rest = inst.get1("T1")
         e = inst.get(ENERGIES)
         assert all(r.status == FMI2_OK for r in inst.log), [str(r) for r in inst.log if r.status]
+        # logEvents names the two switches of the creep, on near rest and off again.
+        creep = [r.message for r in inst.log if "creep like law 2" in r.message]
+        sharp = [r.message for r in inst.log if "sharp sliding direction again" in r.message]
+        assert len(creep) == 1 and len(sharp) == 1, (creep, sharp)
         assert abs(inst.get1("omega1_filtered") - w0) < 1e-6 * w0
         ideal = t_load * z1 / z2
         assert abs(t1_rest - ideal) <= 1e-6 * ideal, (t1_rest, ideal)

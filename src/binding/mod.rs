@@ -276,6 +276,33 @@ impl GearedRotorFmu {
                     ),
                 );
             }
+            for c in report.creep_changes.iter().flatten() {
+                let what = if c.creep {
+                    "the pair rolls too slowly for the sharp sliding direction of friction laws 1 and 3: they creep like law 2 with v_reg = CREEP_SPEED = 1e-2 m/s until it rolls faster than that across a base pitch (docs/model.md 4.2)"
+                } else {
+                    "the pair rolls fast enough again: friction laws 1 and 3 take their sharp sliding direction again"
+                };
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!(
+                        "t = {:.12} s: rolling speed {:.4e} m/s across a base pitch: {what}",
+                        c.t, c.rolling
+                    ),
+                );
+            }
+            if report.creep_changes_dropped > 0 {
+                log.log(
+                    Status::OK,
+                    Category::Events,
+                    &format!(
+                        "{} further creep switches in [{}, {}] s",
+                        report.creep_changes_dropped,
+                        Short(t0),
+                        Short(ccp + h)
+                    ),
+                );
+            }
             if report.stick_changes_dropped > 0 {
                 log.log(
                     Status::OK,

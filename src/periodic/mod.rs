@@ -166,6 +166,9 @@ impl PeriodicSystem {
             t_load,
             ..Inputs::default()
         });
+        // Laws 1 and 3 creep on an orbit as slow as a start that creeps (`model.md` §4.2).
+        let creep = model.creeps_at(omega1);
+        model.set_creep(creep);
         model.initialize(0.0)?;
         let period = 2.0 * PI / (f64::from(params.gear.z1) * omega1);
         Ok(PeriodicSystem {

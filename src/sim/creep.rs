@@ -12,10 +12,25 @@
 // `!(a >= b)` on purpose: NaN counts as outside, which `a < b` would let pass.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::stick::StickChange;
 use super::validity::locate;
-use super::{SimError, Simulation};
+use super::{SimError, Simulation, StepReport};
 use crate::rotor::{GearedRotor, CREEP_ENTRY, CREEP_SPEED, NY};
 use nalgebra::SVector;
+
+/// Most creep switches one communication interval lists (further ones are counted).
+pub const MAX_CREEP_REPORTED: usize = 2;
+
+/// A located switch of the creep mode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CreepChange {
+    /// The instant in s.
+    pub t: f64,
+    /// true: the flanks start to creep; false: the sharp law again.
+    pub creep: bool,
+    /// The rolling speed across a base pitch there (m/s).
+    pub rolling: f64,
+}
 
 /// How far the state y is past the switch of the current mode (> 0: switch): creeping,
 /// the rolling speed above CREEP_SPEED; else below CREEP_ENTRY.
@@ -28,8 +43,10 @@ fn past_switch(model: &GearedRotor, y: &SVector<f64, NY>) -> f64 {
     }
 }
 
-/// The creep mode of a start state (creeping where the pair rolls slower than CREEP_ENTRY,
-/// for laws 1 and 3), and the state made consistent with it.
+/// The creep mode of a start state (creeping where the pair, rolling rigidly at the start
+/// input omega1, rolls slower than CREEP_ENTRY across a base pitch: the same test as the
+/// periodic module's, whose orbit the start may be), and the state made consistent with
+/// it.
 ///
 /// # Errors
 /// The consistent state cannot be computed.
@@ -38,7 +55,8 @@ pub(super) fn start_creep(
     t: f64,
     y: SVector<f64, NY>,
 ) -> Result<SVector<f64, NY>, SimError> {
-    let on = model.creep_possible() && model.rolling_speed(&y) < CREEP_ENTRY;
+    let omega1 = model.inputs().omega1_at(t);
+    let on = model.creeps_at(omega1);
     if on == model.creeps() {
         return Ok(y);
     }
@@ -54,7 +72,11 @@ impl Simulation {
     /// located, the step retaken to end there, the mode switched and the stepper restarted.
     /// On a look-ahead step a switch past `t_end` is not taken: the step is retaken to end
     /// on `t_end`, and the next doStep meets the switch again.
-    pub(super) fn creep_transitions(&mut self, t_end: f64) -> Result<(), SimError> {
+    pub(super) fn creep_transitions(
+        &mut self,
+        t_end: f64,
+        report: &mut StepReport,
+    ) -> Result<(), SimError> {
         let model = &self.problem.model;
         if !model.creep_possible() {
             return Ok(());
@@ -84,22 +106,33 @@ impl Simulation {
                 return Err(super::error::solver_err(e, self.solver.t()));
             }
         }
-        self.switch_creep()
+        self.switch_creep(report)
     }
 
     /// Switches the creep mode at the stepper's current point and restarts it there with
-    /// the state consistent with the new mode.
-    pub(super) fn switch_creep(&mut self) -> Result<(), SimError> {
+    /// the state consistent with the new mode; a stick phase it ends is reported too.
+    pub(super) fn switch_creep(&mut self, report: &mut StepReport) -> Result<(), SimError> {
         let t = self.solver.t();
         let mut y = *self.solver.y();
         let model = &mut self.problem.model;
         let on = !model.creeps();
+        if on && model.stick() {
+            report.note_stick(StickChange { t, stick: false });
+        }
+        report.note_creep(CreepChange {
+            t,
+            creep: on,
+            rolling: model.rolling_speed(&y),
+        });
         model.set_creep(on);
         if let Ok(z) = model.contact().consistent_state(t, &y) {
             y = z;
         }
         if !on {
             y = super::stick::start_mode(model, t, y)?;
+            if model.stick() {
+                report.note_stick(StickChange { t, stick: true });
+            }
         }
         self.solver
             .restart(&mut self.problem, y, None)
@@ -114,5 +147,16 @@ impl Simulation {
     pub(super) fn creep_switch_due(&self) -> bool {
         let model = &self.problem.model;
         model.creep_possible() && past_switch(model, self.solver.y()) > 0.0
+    }
+}
+
+impl StepReport {
+    /// Records a creep switch (the first [`MAX_CREEP_REPORTED`], the rest counted).
+    pub(super) fn note_creep(&mut self, c: CreepChange) {
+        if let Some(slot) = self.creep_changes.iter_mut().find(|s| s.is_none()) {
+            *slot = Some(c);
+        } else {
+            self.creep_changes_dropped += 1;
+        }
     }
 }

@@ -42,6 +42,7 @@ mod stick;
 mod validate;
 pub mod validity;
 
+pub use creep::{CreepChange, MAX_CREEP_REPORTED};
 pub use error::SimError;
 pub use fmu_state::SimState;
 pub use inputs::Input;

@@ -190,10 +190,15 @@ impl Simulation {
             }
             match r {
                 Ok(tn) => {
+                    let y: SVector<f64, NY> = *self.solver.y();
+                    // Contact onsets and separations: crossed, located for the report.
+                    self.note_contact_crossings(&mut report);
+                    self.track_contact(tn, &y, &mut report);
+                    self.check_validity(tn, &y, &mut report)?;
                     // Creep of laws 1 and 3 (`creep`): switched at the end of the step in
                     // which the rolling speed crossed, with a new J and LU pair.
                     if self.creep_switch_due() {
-                        let r = self.switch_creep().and_then(|()| {
+                        let r = self.switch_creep(&mut report).and_then(|()| {
                             self.solver
                                 .fixed_prepare(&mut self.problem, h)
                                 .map_err(|e| solver_err(e, tn))
@@ -203,11 +208,6 @@ impl Simulation {
                             return fail(self, e);
                         }
                     }
-                    let y: SVector<f64, NY> = *self.solver.y();
-                    // Contact onsets and separations: crossed, located for the report.
-                    self.note_contact_crossings(&mut report);
-                    self.track_contact(tn, &y, &mut report);
-                    self.check_validity(tn, &y, &mut report)?;
                 }
                 Err(e) => {
                     let ts = self.solver.t();

@@ -3,6 +3,7 @@
 //! across points while the input function stays the same, and reports what happened.
 
 use super::contact_events::{ContactEvent, MAX_CONTACT_REPORTED};
+use super::creep::{CreepChange, MAX_CREEP_REPORTED};
 use super::error::{solver_err, SimError};
 use super::stick::{StickChange, MAX_STICK_REPORTED};
 use super::validity::{self, Violation};
@@ -52,6 +53,11 @@ pub struct StepReport {
     pub contact_events: [Option<ContactEvent>; MAX_CONTACT_REPORTED],
     /// Further ones not listed.
     pub contact_events_dropped: u32,
+    /// Switches of the creep of friction laws 1 and 3 near standstill in this interval, in
+    /// order (`sim::creep`).
+    pub creep_changes: [Option<CreepChange>; MAX_CREEP_REPORTED],
+    /// Further ones not listed.
+    pub creep_changes_dropped: u32,
 }
 
 impl Simulation {
@@ -213,9 +219,9 @@ impl Simulation {
             // at one).
             let r = match r {
                 Ok(_) if !entered => match self
-                    .creep_transitions(t_end)
-                    .and_then(|()| self.stick_transitions(t_end, &mut report))
+                    .stick_transitions(t_end, &mut report)
                     .and_then(|()| self.contact_events(t_end, &mut report))
+                    .and_then(|()| self.creep_transitions(t_end, &mut report))
                 {
                     Ok(()) => Ok(self.solver.t()),
                     Err(e) => return Err(self.stop_at_last_step(t_end, e)),

@@ -72,6 +72,14 @@ impl GearedRotor {
         (y[idx::OMEGA1] + y[idx::V + 6]).abs() * self.geom.p_bt
     }
 
+    /// Whether a start (or a periodic orbit) at the drive speed omega1 creeps: laws 1 and 3
+    /// with the pair rolling rigidly slower than [`CREEP_ENTRY`] across a base pitch.
+    pub fn creeps_at(&self, omega1: f64) -> bool {
+        let g = &self.geom;
+        let ratio = f64::from(g.data.z1) / f64::from(g.data.z2);
+        self.creep_possible() && omega1.abs() * (1.0 + ratio) * g.p_bt < CREEP_ENTRY
+    }
+
     /// The regularising speed of the creep, when laws 1 and 3 creep.
     fn standstill_creep(&self) -> Option<f64> {
         (self.creep && self.creep_possible()).then_some(CREEP_SPEED)
