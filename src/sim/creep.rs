@@ -43,8 +43,8 @@ fn past_switch(model: &GearedRotor, y: &SVector<f64, NY>) -> f64 {
     }
 }
 
-/// The creep mode of a start state (creeping where the pair, rolling rigidly at the start
-/// input omega1, rolls slower than CREEP_ENTRY across a base pitch: the same test as the
+/// The creep mode of a start state (creeping where the pair, rolling rigidly at the
+/// state's omega1, rolls slower than CREEP_ENTRY across a base pitch: the same test as the
 /// periodic module's, whose orbit the start may be), and the state made consistent with
 /// it.
 ///
@@ -55,8 +55,9 @@ pub(super) fn start_creep(
     t: f64,
     y: SVector<f64, NY>,
 ) -> Result<SVector<f64, NY>, SimError> {
-    let omega1 = model.inputs().omega1_at(t);
-    let on = model.creeps_at(omega1);
+    // The state's (filtered) omega1: the input's at a start and on an orbit; after new
+    // inputs at t0 the filter has not moved yet, and the located switches follow it.
+    let on = model.creeps_at(y[crate::rotor::idx::OMEGA1]);
     if on == model.creeps() {
         return Ok(y);
     }
@@ -84,8 +85,13 @@ impl Simulation {
         let (tp, tn) = (self.solver.t_prev(), self.solver.t());
         let y_n = *self.solver.y();
         let g_n = past_switch(model, &y_n);
-        if !(tp < tn) || !(g_n > 0.0) {
+        if !(g_n > 0.0) {
             return Ok(());
+        }
+        if !(tp < tn) {
+            // The stick or contact checks of this step restarted the stepper at an event
+            // of theirs, past the switch already: switch there.
+            return self.switch_creep(report);
         }
         let solver = &self.solver;
         let mut ys = SVector::<f64, NY>::zeros();
