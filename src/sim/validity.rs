@@ -6,9 +6,10 @@
 //!   constraint, as the outputs report it) becomes negative. The rigid single-flank contact
 //!   then pulls the flanks together; real teeth would separate (or change flanks across the
 //!   backlash), which this model cannot represent;
-//! - drive reversal: the filtered drive speed omega1_filtered becomes <= 0. The model is
-//!   set up for gear 1 driving in the positive sense (the mesh phase advances with phi1,
-//!   mesh events and the loss figures assume it);
+//! - drive reversal: the filtered drive speed omega1_filtered becomes negative. The model
+//!   is set up for gear 1 driving in the positive sense (the mesh phase advances with phi1,
+//!   mesh events and the loss figures assume it); standstill (omega1_filtered = 0) is
+//!   inside it since friction laws 1 and 3 creep there (`model.md` §4.2);
 //! - tooth overload (elastic teeth): the drive or the coast flanks overlap by more than
 //!   m_n / 20 (`Contact::overload_margin`), several times any rating, where the linear
 //!   mesh stiffness no longer holds. Reported once per run (it does not end).
@@ -66,7 +67,7 @@ impl OnViolation {
 pub enum ViolationKind {
     /// Fn < 0.
     LiftOff,
-    /// omega1_filtered <= 0.
+    /// omega1_filtered < 0.
     DriveReversal,
     /// Elastic teeth deflected by more than m_n / 20.
     ToothOverload,
@@ -112,7 +113,7 @@ impl fmt::Display for Violation {
             ),
             ViolationKind::DriveReversal => write!(
                 f,
-                "drive reversal at t = {t} s: the filtered drive speed omega1_filtered became <= 0 \
+                "drive reversal at t = {t} s: the filtered drive speed omega1_filtered became negative \
                  (omega1_filtered = {v:.6e} rad/s at t = {ts} s). The model assumes gear 1 drives in the positive \
                  sense, so the results from this instant on are outside the model's validity \
                  (reported once per episode; on_lift_off = discard stops the step here)"
@@ -134,7 +135,7 @@ impl fmt::Display for Violation {
 pub struct Monitor {
     /// Fn < 0 at the last check.
     pub(super) lift_off: bool,
-    /// omega1_filtered <= 0 at the last check.
+    /// omega1_filtered < 0 at the last check.
     pub(super) reversed: bool,
     /// Episodes that hold at the start state and are not reported yet.
     pub(super) pending_lift_off: bool,
@@ -154,7 +155,7 @@ impl Monitor {
     /// The monitor for a start state (conditions that already hold are pending): whether
     /// the flanks have lifted off there, and the filtered drive speed.
     pub(super) fn new(t: f64, lift_off: bool, omega1: f64, overload: bool) -> Self {
-        let reversed = !(omega1 > 0.0);
+        let reversed = !(omega1 >= 0.0);
         Monitor {
             lift_off,
             reversed,
@@ -257,11 +258,11 @@ impl Simulation {
             ViolationKind::LiftOff => self.problem.model.contact().normal_force(t, y),
             ViolationKind::DriveReversal => {
                 let w = y[idx::OMEGA1];
-                if w > 0.0 {
-                    w
+                // < 0 is outside (NaN too).
+                if w.is_nan() {
+                    -f64::MIN_POSITIVE
                 } else {
-                    // <= 0 is outside: keep 0 on the negative side for the root finder.
-                    w.min(-f64::MIN_POSITIVE)
+                    w
                 }
             }
             ViolationKind::ToothOverload => self.problem.model.contact().overload_margin(t, y),
@@ -369,7 +370,7 @@ impl Simulation {
         // the stepper's lambda, a change confirmed with the consistent force; never for
         // elastic teeth).
         let now = [
-            !(y[idx::OMEGA1] > 0.0),
+            !(y[idx::OMEGA1] >= 0.0),
             self.problem.model.contact().lifted_off(th, y, was[1]),
             // An overload is reported once per run: the teeth vibrate through the limit
             // at the mesh frequency, and what follows the first is outside the model anyway.
@@ -494,8 +495,10 @@ mod tests {
             assert_eq!(m.bits(), b);
             assert_eq!(m.t_checked, 1.5);
         }
-        let m = Monitor::new(0.0, true, 0.0, true);
+        let m = Monitor::new(0.0, true, -1.0, true);
         assert!(m.lift_off && m.reversed && m.pending_lift_off && m.pending_reversal);
+        // Standstill is inside the model (laws 1 and 3 creep there).
+        assert!(!Monitor::new(0.0, false, 0.0, false).reversed);
         assert!(m.overload && m.pending_overload);
         let m = Monitor::new(0.0, false, f64::NAN, false);
         assert!(!m.lift_off && m.reversed, "NaN speed counts as outside");
