@@ -10,7 +10,7 @@ mod common;
 use common::stick::round_trip;
 use geared_rotor::gear::FrictionLaw;
 use geared_rotor::rotor::{GearedRotor, Params, ToothContact, CREEP_ENTRY, CREEP_SPEED, NY};
-use geared_rotor::sim::{Initialization, Input, Simulation, SolverSettings};
+use geared_rotor::sim::{Initialization, Input, SimError, Simulation, SolverSettings};
 use nalgebra::SVector;
 
 const OMEGA: f64 = 31.4159;
@@ -30,6 +30,18 @@ fn omega1_at(t: f64) -> f64 {
     } else {
         OMEGA
     }
+}
+
+/// The pair `p` started at t = 0 with omega1, T_load and `init`, at rtol (h_max 1e-4 s).
+fn start(
+    p: Params,
+    rtol: f64,
+    omega1: f64,
+    t_load: f64,
+    init: Initialization,
+) -> Result<Simulation, SimError> {
+    let settings = SolverSettings { rtol, h_max: 1e-4 };
+    Simulation::with_initialization(p, settings, 0.0, omega1, t_load, init)
 }
 
 fn pair(contact: ToothContact, spur: bool, law: FrictionLaw) -> Params {
@@ -56,13 +68,8 @@ fn the_drive_stops_under_load_and_starts_again() {
                 let name = format!("{contact:?}, spur {spur}, {law:?}");
                 let p = pair(contact, spur, law);
                 let static_t1 = T_LOAD * f64::from(p.gear.z1) / f64::from(p.gear.z2);
-                let settings = SolverSettings {
-                    rtol: 1e-9,
-                    h_max: 1e-4,
-                };
-                let init = Initialization::StaticEquilibrium;
                 let mut s =
-                    Simulation::with_initialization(p, settings, 0.0, OMEGA, T_LOAD, init).unwrap();
+                    start(p, 1e-9, OMEGA, T_LOAD, Initialization::StaticEquilibrium).unwrap();
                 let o0 = s.outputs();
                 let (h, mut worst, mut hold_steps, mut t1_rest) = (1e-4, 0.0f64, 0, f64::NAN);
                 let mut switches = Vec::new();
@@ -135,13 +142,7 @@ fn a_start_at_standstill_under_load_runs() {
                     for init in [Initialization::Rest, Initialization::StaticEquilibrium] {
                         let name = format!("{contact:?}, spur {spur}, {law:?}, {t_load}, {init:?}");
                         let p = pair(contact, spur, law);
-                        let settings = SolverSettings {
-                            rtol: 1e-6,
-                            h_max: 1e-4,
-                        };
-                        let mut s =
-                            Simulation::with_initialization(p, settings, 0.0, 0.0, t_load, init)
-                                .unwrap();
+                        let mut s = start(p, 1e-6, 0.0, t_load, init).unwrap();
                         for k in 0..100 {
                             let t = k as f64 * 1e-4;
                             s.do_step(t, 1e-4)
@@ -250,13 +251,7 @@ fn a_spur_pair_runs_steadily_near_the_creep_switches() {
                 let name = format!("{contact:?}, {t_load} N m, rolling {q} CREEP_SPEED");
                 let p = pair(contact, true, FrictionLaw::Coulomb);
                 let w = omega1_at_rolling(&p, q);
-                let settings = SolverSettings {
-                    rtol: 1e-6,
-                    h_max: 1e-4,
-                };
-                let init = Initialization::StaticEquilibrium;
-                let mut s =
-                    Simulation::with_initialization(p, settings, 0.0, w, t_load, init).unwrap();
+                let mut s = start(p, 1e-6, w, t_load, Initialization::StaticEquilibrium).unwrap();
                 let (h, mut most) = (1e-3, 0);
                 for k in 0..200 {
                     let n0 = s.stats().nstep;
@@ -285,12 +280,7 @@ fn a_state_taken_while_creeping_continues_identically() {
         // Between CREEP_ENTRY and CREEP_SPEED after a stop: creeping, where a start would
         // take the sharp law.
         let w = omega1_at_rolling(&p, 0.8);
-        let settings = SolverSettings {
-            rtol: 1e-8,
-            h_max: 1e-4,
-        };
-        let init = Initialization::StaticEquilibrium;
-        let mut s = Simulation::with_initialization(p, settings, 0.0, 0.0, T_LOAD, init).unwrap();
+        let mut s = start(p, 1e-8, 0.0, T_LOAD, Initialization::StaticEquilibrium).unwrap();
         assert!(s.model().creeps(), "{contact:?}: a start at rest creeps");
         let h = 1e-4;
         for k in 0..50 {
@@ -326,12 +316,7 @@ fn the_real_time_mode_stops_and_starts_under_load() {
     for contact in [ToothContact::Rigid, ToothContact::Elastic] {
         let p = pair(contact, false, FrictionLaw::Coulomb);
         let static_t1 = T_LOAD * f64::from(p.gear.z1) / f64::from(p.gear.z2);
-        let settings = SolverSettings {
-            rtol: 1e-6,
-            h_max: 1e-4,
-        };
-        let init = Initialization::StaticEquilibrium;
-        let mut s = Simulation::with_initialization(p, settings, 0.0, OMEGA, T_LOAD, init).unwrap();
+        let mut s = start(p, 1e-6, OMEGA, T_LOAD, Initialization::StaticEquilibrium).unwrap();
         s.set_h_fixed(2.5e-5).unwrap();
         let (h, mut t1_rest, mut modes) = (1e-4, f64::NAN, Vec::new());
         for k in 0..2000 {
@@ -364,12 +349,7 @@ fn a_periodic_start_below_the_creep_speed_is_on_the_creeping_orbit() {
         for q in [0.3, 0.45] {
             let p = pair(contact, false, FrictionLaw::Coulomb);
             let w = omega1_at_rolling(&p, q);
-            let settings = SolverSettings {
-                rtol: 1e-8,
-                h_max: 1e-4,
-            };
-            let init = Initialization::Periodic;
-            let mut s = Simulation::with_initialization(p, settings, 0.0, w, T_LOAD, init)
+            let mut s = start(p, 1e-8, w, T_LOAD, Initialization::Periodic)
                 .unwrap_or_else(|e| panic!("{contact:?}, {q}: {e}"));
             assert!(s.model().creeps(), "{contact:?}, {q}");
             let period = 2.0 * std::f64::consts::PI / (f64::from(p.gear.z1) * w);
@@ -394,12 +374,7 @@ fn inputs_set_at_the_start_leave_the_start_mode_to_the_state() {
         (0.0, OMEGA, false, CREEP_SPEED),
     ] {
         let p = pair(ToothContact::Rigid, true, FrictionLaw::Coulomb);
-        let settings = SolverSettings {
-            rtol: 1e-9,
-            h_max: 1e-4,
-        };
-        let init = Initialization::StaticEquilibrium;
-        let mut s = Simulation::with_initialization(p, settings, 0.0, from, T_LOAD, init).unwrap();
+        let mut s = start(p, 1e-9, from, T_LOAD, Initialization::StaticEquilibrium).unwrap();
         s.set_input(Input::Omega1, to).unwrap();
         let mut switches = Vec::new();
         for k in 0..100 {

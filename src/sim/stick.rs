@@ -24,7 +24,7 @@
 use super::validity::locate;
 use super::{SimError, Simulation, StepReport};
 use crate::radau5::{self, Retake};
-use crate::rotor::{idx, GearedRotor, NY};
+use crate::rotor::{GearedRotor, NY};
 use nalgebra::SVector;
 
 /// Most stick transitions one communication interval lists (further ones are counted).
@@ -77,7 +77,7 @@ pub(super) fn start_mode(
     let Some(x0) = model.pitch_line_sliding(t, &y) else {
         return Ok(y);
     };
-    let rolling = (y[idx::OMEGA1] + y[idx::V + 6]).abs() * model.geometry().p_bt;
+    let rolling = model.rolling_speed(&y);
     if !(x0.abs() <= AT_PITCH_LINE * rolling) {
         return Ok(y);
     }
@@ -155,7 +155,7 @@ impl Simulation {
             };
             // At the pitch line already (a step that ended there, e.g. on a predicted
             // reversal): stick from here if the line holds.
-            let rolling = (y_n[idx::OMEGA1] + y_n[idx::V + 6]).abs() * model.geometry().p_bt;
+            let rolling = model.rolling_speed(&y_n);
             if x_n.abs() <= AT_PITCH_LINE * rolling {
                 if model.stick_margin(tn, &y_n).is_some_and(|g| g >= 0.0) {
                     if tn > t_end {

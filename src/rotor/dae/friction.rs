@@ -80,11 +80,6 @@ impl GearedRotor {
         self.creep_possible() && omega1.abs() * (1.0 + ratio) * g.p_bt < CREEP_ENTRY
     }
 
-    /// The regularising speed of the creep, when laws 1 and 3 creep.
-    fn standstill_creep(&self) -> Option<f64> {
-        (self.creep && self.creep_possible()).then_some(CREEP_SPEED)
-    }
-
     /// The friction sums of the state y at the normal force `lam` and the scalar
     /// coefficient that multiplies them in [`FrictionSums::resultants`]:
     /// law 1 and 2: mu (the sums carry the regularisation for law 2); law 3: mu_mz of
@@ -189,16 +184,15 @@ impl GearedRotor {
                 },
                 None,
             ),
-            FrictionLaw::Coulomb | FrictionLaw::IsoMean => match self.standstill_creep() {
-                Some(v_reg) => (
-                    LineLaw::Regularised {
-                        v_reg,
-                        with_mean: false,
-                    },
-                    None,
-                ),
-                None => (LineLaw::Coulomb, None),
-            },
+            // (`set_creep` sets the mode for these two laws only.)
+            FrictionLaw::Coulomb | FrictionLaw::IsoMean if self.creep => (
+                LineLaw::Regularised {
+                    v_reg: CREEP_SPEED,
+                    with_mean: false,
+                },
+                None,
+            ),
+            FrictionLaw::Coulomb | FrictionLaw::IsoMean => (LineLaw::Coulomb, None),
         };
         // m is the mesh of y, so the sums of laws 1-3 are a function of the memo's key;
         // laws 4 and 5 depend on lambda too (the line load): its bits are the variant.
